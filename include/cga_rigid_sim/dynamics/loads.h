@@ -1,0 +1,79 @@
+// Loads on one body during one step: uniform gravity and applied CGA forces and couples.
+//
+// An applied load is a force F = f + αn applied at a material point of the body, plus a pure
+// couple. Its directions are fixed either in the world (a push whose direction does not turn)
+// or in the body (a thruster that turns with it). The point is always a material point, given
+// in B (centre-of-mass principal frame). Moments are formed as λ X∧F, back-rotated into the
+// body and wedged with n (cga.md): T_B = (x_B × f_B, λ f_B) + (τ_B, 0); α drops out.
+//
+// Gravity is kept apart: a uniform field acts at the centre of mass, produces no torque, and the
+// integrators treat it exactly (the centre of mass follows the parabola to round-off).
+// Loads accumulate: add() sums; clearApplied() empties the list for the next step.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "cga_rigid_sim/cga/force.h"
+#include "cga_rigid_sim/cga/moment.h"
+#include "cga_rigid_sim/cga/motor.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+/// The axes a load's force and couple directions are fixed in.
+enum class Axes { kWorld, kBody };
+
+struct AppliedLoad {
+  Axes axes = Axes::kWorld;
+  cga::Force F;                                       ///< force (in `axes`), N
+  Eigen::Vector3d point_B = Eigen::Vector3d::Zero();  ///< material point, B frame, m
+  Eigen::Vector3d couple = Eigen::Vector3d::Zero();   ///< pure couple (in `axes`), N m
+};
+
+class Loads {
+ public:
+  void setGravity(const Eigen::Vector3d& g_W) { g_W_ = g_W; }
+  /// Uniform gravitational acceleration, world axes, m/s².
+  const Eigen::Vector3d& gravity() const { return g_W_; }
+  bool hasGravity() const { return !g_W_.isZero(0.0); }
+
+  void add(const AppliedLoad& load) { applied_.push_back(load); }
+  void clearApplied() { applied_.clear(); }
+  const std::vector<AppliedLoad>& applied() const { return applied_; }
+  bool hasApplied() const { return !applied_.empty(); }
+  /// No gravity and no applied load: a free body.
+  bool empty() const { return !hasGravity() && !hasApplied(); }
+  /// Whether any applied load can exert a torque about the centre of mass.
+  bool hasTorque() const {
+    for (const auto& l : applied_)
+      if (!l.couple.isZero(0.0) || (!l.F.f.isZero(0.0) && !l.point_B.isZero(0.0))) return true;
+    return false;
+  }
+
+  /// Sum of the applied loads' body moments at the pose M_WB (gravity excluded).
+  cga::Moment appliedMoment_B(const cga::Motor& M_WB, double lambda) const {
+    cga::Moment T;
+    for (const auto& l : applied_) {
+      Eigen::Vector3d f = l.F.f, tau = l.couple;
+      if (l.axes == Axes::kWorld) {
+        const Eigen::Quaterniond R_BW = M_WB.rotation().conjugate();
+        f = R_BW * f;
+        tau = R_BW * tau;
+      }
+      T += cga::Moment::ofForceAt(f, l.point_B, lambda) + cga::Moment::couple(tau);
+    }
+    return T;
+  }
+  /// Gravity's moment on a body of mass m at the pose M_WB: (0, λ m R̃ g).
+  cga::Moment gravityMoment_B(double mass, const cga::Motor& M_WB, double lambda) const {
+    return {Eigen::Vector3d::Zero(), (lambda * mass) * (M_WB.rotation().conjugate() * g_W_)};
+  }
+
+ private:
+  Eigen::Vector3d g_W_ = Eigen::Vector3d::Zero();
+  std::vector<AppliedLoad> applied_;
+};
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim
