@@ -1,0 +1,54 @@
+// Scene: what is simulated, as loaded and validated from URDF — constant after loading.
+// (What changes as the simulation runs, the body states, lives in sim::World.)
+//
+// A body is a set of links merged by fixed joints. Its reference frame B has its origin at the
+// body's centre of mass and its axes along the principal axes (dynamics/inertia.h); every
+// merged link keeps its frame as a constant motor M_BL so its pose M_WL = M_WB M_BL can be
+// published. Static bodies (fixed to `world`) are never stepped; their B is their root link's
+// frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cga_rigid_sim/cga/bivelocity.h"
+#include "cga_rigid_sim/cga/motor.h"
+#include "cga_rigid_sim/dynamics/inertia.h"
+
+namespace cga_rigid_sim {
+namespace scene {
+
+/// A link merged into a body, and where its frame sits in the body's frame B.
+struct LinkFrame {
+  std::string link;
+  cga::Motor M_BL;
+};
+
+struct BodyModel {
+  std::string name;       ///< the body's name: its root link's name
+  bool is_static = false; ///< fixed to the world: never stepped
+  std::optional<dynamics::Inertia> inertia;  ///< set for every moving body
+  std::vector<LinkFrame> links;              ///< root link first
+  cga::Motor M_WB0;                          ///< initial pose of B
+  cga::Bivelocity omega_B0;                  ///< initial body bivelocity
+  std::vector<std::string> merged_joints;    ///< fixed joints merged into this body
+};
+
+struct Scene {
+  std::string source;  ///< file name or "robot_description"
+  std::string robot_name;
+  double lambda = 1.0;
+  Eigen::Vector3d gravity_W{0.0, 0.0, -9.81};
+  std::vector<BodyModel> bodies;
+  std::vector<std::string> warnings;  ///< e.g. relaxed triangle inequality
+
+  /// Index of the body with that name, or -1.
+  int findBody(const std::string& name) const;
+  /// Index of the body that owns the link, or -1; `link_index` gets its place in links.
+  int findLink(const std::string& link, int* link_index = nullptr) const;
+};
+
+}  // namespace scene
+}  // namespace cga_rigid_sim
