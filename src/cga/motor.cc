@@ -6,8 +6,12 @@ namespace cga_rigid_sim {
 namespace cga {
 
 Bivelocity log(const Motor& M) {
-  const Eigen::Quaterniond& r = M.rotorQuaternion();
-  const Eigen::Quaterniond& q = M.dualQuaternion();
+  // M and −M are the same rigid motion; take the one with r_w ≥ 0 so the rotation half-angle is
+  // at most π/2 (the principal logarithm, rotation angle ≤ π). The other branch would divide by
+  // sinc θ → 0 near a full turn and amplify round-off.
+  const double sign = M.rotorQuaternion().w() < 0 ? -1.0 : 1.0;
+  const Eigen::Quaterniond r(sign * M.rotorQuaternion().coeffs());
+  const Eigen::Quaterniond q(sign * M.dualQuaternion().coeffs());
   const double s = r.vec().norm();
   const double theta = std::atan2(s, r.w());
   const double sc = detail::sinc(theta);

@@ -174,9 +174,10 @@ inline Motor exp(const Bivelocity& B) {
                                 Eigen::Quaterniond(-ab * sc, qv.x(), qv.y(), qv.z()));
 }
 
-/// The logarithm of a unit motor: the bivector B with exp(B) = M, rotation half-angle
-/// θ = atan2(|r_vec|, r_w) ∈ [0, π] (atan2 keeps full relative precision at small angles).
-/// Singular only at θ = π (M = −1 times a translation: a full turn).
+/// The principal logarithm of a unit motor: the bivector B of the shortest screw, with
+/// exp(B) = ±M (M and −M are the same rigid motion; the sign is the one with r_w ≥ 0). The
+/// rotation half-angle θ = atan2(|r_vec|, |r_w|) ∈ [0, π/2] (atan2 keeps full relative precision
+/// at small angles); at a rotation by π exactly (θ = π/2) the screw axis direction is either.
 Bivelocity log(const Motor& M);
 
 std::ostream& operator<<(std::ostream& os, const Motor& M);
