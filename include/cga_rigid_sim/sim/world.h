@@ -2,11 +2,55 @@
 // the step they belong to, and reports momentum and energy. Deterministic: the same scene, the
 // same inputs with the same stamps, the same steps give bit-identical states. No ROS.
 //
-// Time: step k advances t_k = k·dt to t_{k+1}. An input stamped s belongs to the step
-// k = floor(s/dt + tiny) (s = 0: the next step); a stamp whose step is already done is refused.
+// Time. The world counts steps; t = stepCount·dt (an integer count, so t never drifts). Step k
+// advances t_k = k·dt to t_{k+1}. An input stamped s belongs to step k = floor(s/dt + 1e-9)
+// (the 1e-9 step absorbs the round-off of stamps that are multiples of dt: 0.3/0.1 is
+// 2.9999999999999996); s = 0 means the next step (k = stepCount). A stamp whose step is already
+// done (k < stepCount) is refused. Inputs wait in a queue ordered by (step, arrival order), so
+// the order they take effect in depends on their stamps and, within one step, on the order
+// they arrived — never on wall time.
+//
+// One step k: (1) inputs due at k, in (step, arrival) order: impulses make Ω_B jump (then the
+// body's integrator is reset), wrenches start; (2) each body's loads are gravity plus its
+// active wrenches (summed in the order they started); (3) every moving body is integrated over
+// [t_k, t_{k+1}]; (4) wrenches whose last step was k end. Static bodies are never stepped. A moving
+// body with no loads and Ω_B = 0 is at rest for every integrator: it is skipped (its state is left
+// exactly as it is).
+//
+// Wrenches (WrenchInput). Given in a link frame (`frame` a link of the body) a wrench is fixed
+// in that link and turns with it for its whole duration (a thruster): force, point and couple
+// are carried into B once with the link's constant placement M_BL and applied with body axes.
+// Given in the world frame (`frame` == config.world_frame, or empty) its force and couple keep
+// their world directions, and its point becomes, at the start of its first step, the material
+// point of the body that is there; that material point moves with the body. Concurrent
+// wrenches on a body add. A wrench lasts n steps: duration d > 0 → n = round(d/dt), halves
+// rounding up, with the same 1e-9 step tolerance (n = floor(d/dt + 0.5 + 1e-9); 2.5 steps → 3),
+// at least 1; d = 0 → 1 step; d < 0 → until clearWrenches() (or reset()).
+//
+// Impulses (ImpulseInput) act at the start of the step their stamp falls in, before loads and
+// integration: ΔΩ_B = (I∧n)⁻¹ T_imp (dynamics/impulse.h). In the world frame the linear
+// impulse, its point and the angular impulse are in world axes at that step's pose; in a link
+// frame they are in that link's frame (fixed in the body). The pose does not jump.
+//
+// Validation. Every input is checked completely before anything is queued or changed: on a
+// refusal the world is exactly as before. Messages read "<input>.<field>: <rule>", e.g.
+// "apply_wrench.f.y: not finite (nan)", "apply_wrench.body: body 'table' is static",
+// "apply_impulse.frame: frame 'x' is not the world frame 'world' nor a link of body 'b'",
+// "apply_wrench.start_time: start stamp 0.5 is already past (sim time 1)". Field names are
+// those of inputs.h, with F.f written `f` (wrench) or `J` (impulse) and F.alpha `alpha`.
+// Rules: every number finite; |f|, |couple| ≤ max_force; |J|, |angular| ≤ max_impulse;
+// |point| ≤ kMaxPointDistance; body known (a body name or any of its links) and moving; frame
+// the world frame or a link of that body; stamp not past and at most kMaxSteps steps ahead;
+// duration at most kMaxSteps steps.
+//
+// Performance: bodies live in contiguous arrays (states, inertias, loads, one integrator
+// object each); step() looks up no string and does not allocate (room for loads is reserved
+// when an input arrives).
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -20,15 +64,30 @@
 namespace cga_rigid_sim {
 namespace sim {
 
+/// Stamps and durations farther than this many steps are refused (at dt = 1 ms, 31 000 years):
+/// beyond it step numbers stop being exact in a double.
+constexpr double kMaxSteps = 1e15;
+/// Points of application farther than this from their frame's origin are refused, m: their
+/// moments would be round-off.
+constexpr double kMaxPointDistance = 1e9;
+/// A pose's rotation matrix R must satisfy max|RᵀR − I| ≤ this and det R > 0. Rotations that
+/// went through single precision (ε ≈ 6e-8) pass; the quaternion taken from R is normalised.
+constexpr double kRotationTolerance = 1e-6;
+/// The name of the scene total in momentum().
+constexpr const char* kTotalName = "total";
+
 struct WorldConfig {
-  double dt = 0.001;               ///< s, > 0
+  double dt = 0.001;  ///< s, > 0
   std::string integrator = "auto";
   std::string world_frame = "world";
-  double max_force = 1e6;          ///< N (and N m for couples): larger inputs are refused
-  double max_impulse = 1e4;        ///< N s (and N m s)
+  double max_force = 1e6;    ///< N (and N m for couples): larger inputs are refused
+  double max_impulse = 1e4;  ///< N s (and N m s)
 };
 
 /// Momentum and energy of one body (or of the whole scene, named "total"), world axes.
+/// For "total": linear, angular_origin and the energies are the sums over the moving bodies;
+/// `angular` is the angular momentum about the system's centre of mass,
+/// L_origin − x_cm × P (the bodies' spins plus their orbital momentum about x_cm).
 struct MomentumReport {
   std::string body;
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();          ///< kg m/s
@@ -57,7 +116,10 @@ struct FramePose {
 
 class World {
  public:
-  /// Builds the world; refuses an unknown integrator, dt ≤ 0 or not finite, bad limits.
+  /// Builds the world; refuses an unknown integrator, dt ≤ 0 or not finite, limits not finite
+  /// and > 0, an empty world frame, and a scene that is not consistent (λ ≤ 0, a moving body
+  /// without inertia, duplicate body or link names, a link named like the world frame, an
+  /// initial state that is not finite). One integrator object is made per moving body.
   static Result<std::unique_ptr<World>> create(scene::Scene scene, const WorldConfig& config);
   ~World();
 
@@ -68,32 +130,50 @@ class World {
   /// Simulation time t = stepCount·dt, s.
   double time() const;
 
-  /// Advances one step: due impulses, then loads (gravity + active wrenches), integrate.
+  /// Advances one step: due impulses, then loads (gravity + active wrenches), integrate
+  /// (the sequence in the file comment). Allocation-free.
   void step();
+  /// n steps.
   void step(std::uint64_t n);
 
   /// Validates and queues an input; on refusal nothing is applied and the error names the
-  /// field and the rule ("apply_wrench.f.x: not finite", "body 'x': unknown body", …).
+  /// field and the rule ("apply_wrench.f.x: not finite (nan)", "apply_wrench.body: unknown
+  /// body 'x'", …; the list in the file comment). Returns true when queued.
   Result<bool> applyWrench(const WrenchInput& in);
   Result<bool> applyImpulse(const ImpulseInput& in);
-  /// Ends every active and queued wrench.
+  /// Ends every active and queued wrench now (impulses stay queued).
   void clearWrenches();
-  /// Every body back to its initial state exactly; queued inputs dropped; time runs on.
+  /// Every moving body back to its initial state exactly (the scene's, or the placement of
+  /// spawnUrdf), integrators reset, active wrenches and queued inputs dropped. The step counter
+  /// runs on; spawned bodies stay and deleted ones stay deleted.
   void reset();
 
+  /// The state of a body (its name or any of its links). Static bodies report their fixed
+  /// pose and zero velocities.
   Result<BodyStateReport> getBodyState(const std::string& body) const;
-  /// Sets pose (root link) and velocities (CoM, world axes) of a moving body.
+  /// Sets pose (root link frame, world) and velocities (CoM velocity and angular velocity,
+  /// world axes) of a moving body, effective before the next step:
+  /// M_WB = M_WL0 M_BL0⁻¹, Ω_B = R̃ w + (1/λ) (R̃ v)∧n. Refuses non-finite numbers, a rotation
+  /// that is not proper (kRotationTolerance), unknown and static bodies. The body's integrator
+  /// is reset; its world-frame wrenches keep their material points.
   Result<bool> setBodyState(const std::string& body, const Eigen::Isometry3d& pose_root,
                             const Eigen::Vector3d& linear_velocity_W,
                             const Eigen::Vector3d& angular_velocity_W);
-  /// Adds the bodies of a URDF under `name` (its single free body is renamed `name`), placed
-  /// at `pose_root` with the given CoM/angular velocities (world axes).
+  /// Adds the body of a URDF under `name`, placed at `pose_root` (its root link, world) with
+  /// the given CoM/angular velocities (world axes); that placement is its initial state for
+  /// reset(). The URDF is loaded with the world's λ, gravity and world frame (source
+  /// "spawn_urdf '<name>'") and must hold exactly one body, a moving one. The body and its root
+  /// link are renamed `name` (body name = root link name, as for loaded scenes). Refuses an
+  /// empty or existing name, a link name the world already has, and what setBodyState refuses.
+  /// Bumps topologyVersion().
   Result<bool> spawnUrdf(const std::string& name, const std::string& urdf,
                          const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& linear_W,
                          const Eigen::Vector3d& angular_W);
+  /// Removes a body (moving or static, by its name) with its active and queued inputs. Refuses
+  /// an unknown name. Bumps topologyVersion().
   Result<bool> deleteBody(const std::string& body);
 
-  /// Per moving body, then the scene total named "total".
+  /// Per moving body (scene order), then the scene total named "total" (see MomentumReport).
   std::vector<MomentumReport> momentum() const;
   /// Every moving body.
   std::vector<BodyStateReport> bodyStates() const;
@@ -103,8 +183,13 @@ class World {
   std::vector<FramePose> staticFrames() const;
   /// Bumped whenever the set of bodies changes (spawn/delete): static frames must be resent.
   std::uint64_t topologyVersion() const;
-  /// Integrator path per body, for the summary ("exact-symmetric", …).
+  /// Integrator path per body, for the summary ("exact-symmetric", …; "at-rest" for a body
+  /// skipped in the last step).
   std::string summary() const;
+
+  /// Wrenches acting in the next step (already started) and inputs waiting for their step.
+  std::size_t activeWrenchCount() const;
+  std::size_t queuedInputCount() const;
 
  private:
   World();
