@@ -27,8 +27,8 @@ struct LinkFrame {
 };
 
 struct BodyModel {
-  std::string name;       ///< the body's name: its root link's name
-  bool is_static = false; ///< fixed to the world: never stepped
+  std::string name;                          ///< the body's name: its root link's name
+  bool is_static = false;                    ///< fixed to the world: never stepped
   std::optional<dynamics::Inertia> inertia;  ///< set for every moving body
   std::vector<LinkFrame> links;              ///< root link first
   cga::Motor M_WB0;                          ///< initial pose of B
@@ -49,6 +49,18 @@ struct Scene {
   /// Index of the body that owns the link, or -1; `link_index` gets its place in links.
   int findLink(const std::string& link, int* link_index = nullptr) const;
 };
+
+/// The integrator names the summary knows (those of dynamics/integrator.h, in its order).
+const std::vector<std::string>& summaryIntegratorNames();
+
+/// The integrator path a body takes under `integrator` with the loads the scene itself defines
+/// (uniform gravity, which is torque-free), before any applied wrench:
+///   static bodies → "static"; under `auto`: "at-rest" (no gravity and zero initial velocity),
+///   else "exact-spherical" / "exact-symmetric" / "exact-asymmetric" by inertia class; any
+///   other integrator → its own name. An applied wrench (which can reach every moving body)
+///   switches `auto` to "exact+kicks" while it acts.
+std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
+                                  const std::string& integrator);
 
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -1,0 +1,441 @@
+// URDF → Scene (doc/urdf.md).
+//
+// Pipeline: (1) our own XML pass (urdf_xml.cc: structure, numbers, extension element, tree),
+// (2) urdfdom parses the model, (3) each link's mass properties in its own frame, from <inertial>
+// or from collision geometry, validated per link, (4) bodies: links joined by fixed joints
+// merge into one body (composite mass, centre of mass, parallel-axis inertia), floating joints
+// start free bodies, links fixed to the world frame form static bodies, (5) the initial state
+// (initial_state.cc). Any error returns before a Scene exists: never a partial scene.
+//
+// Initial-state dictionary (SceneOptions::initial_state; ROS parameter ~initial_state; full
+// text in doc/initial_state.md). A map from body name (= the body's root link name) to a map of
+// optional keys:
+//   position:              [x, y, z]      root link origin, world frame, m
+//   orientation:           [x, y, z, w]   root link attitude, unit quaternion (normalised if
+//                                         within 1e-6 of unit, refused otherwise)
+//   rpy:                   [r, p, y]      the same as fixed-axis roll, pitch, yaw (rad);
+//                                         give orientation or rpy, not both
+//   linear_velocity:       [vx, vy, vz]   of the centre of mass, world axes, m/s
+//   angular_velocity:      [wx, wy, wz]   world axes, rad/s
+//   linear_velocity_body:  [vx, vy, vz]   of the centre of mass, root link axes, m/s
+//   angular_velocity_body: [wx, wy, wz]   root link axes, rad/s
+// (a velocity and its _body variant exclude each other). Keys left out keep the URDF pose and
+// zero velocity. Unknown bodies or keys, static bodies, wrong types or lengths, non-finite
+// numbers are refused with a message naming the body and the key. Example (YAML, as in
+// config/tennis_racket.yaml):
+//   initial_state:
+//     racket_handle:
+//       position: [0.0, 0.0, 1.5]
+//       rpy: [0.0, 0.0, 0.0]
+//       angular_velocity_body: [0.01, 10.0, 0.01]
+#include "cga_rigid_sim/scene/urdf_loader.h"
+
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <unordered_map>
+
+#include "cga_rigid_sim/scene/mass_properties.h"
+#include "cga_rigid_sim/scene/mesh.h"
+#include "urdf_xml.h"
+
+namespace cga_rigid_sim {
+namespace scene {
+
+namespace {
+
+const char* const kRelaxHint =
+    "; if this comes from rounding in a real robot's URDF, set the ROS parameter "
+    "~relax_inertia:=true (SceneOptions::triangle_policy = kNearestPhysical) to accept it with a "
+    "warning and use the nearest physical inertia";
+
+std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+
+std::string num(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  X.translation() << p.position.x, p.position.y, p.position.z;
+  return X;
+}
+
+// Everything the loader needs in one place while it runs.
+class Loader {
+ public:
+  Loader(const std::string& source, const std::string& base_dir, const SceneOptions& options)
+      : source_(source), base_dir_(base_dir), options_(options) {}
+
+  Result<Scene> load(const std::string& xml);
+
+ private:
+  struct LinkMass {
+    bool massive = false;
+    MassProperties in_link;  // link frame
+  };
+  struct BodyRoot {
+    const urdf::Link* link = nullptr;
+    Eigen::Isometry3d X_WR = Eigen::Isometry3d::Identity();
+    bool is_static = false;
+  };
+
+  Error fail(int line, const std::string& what) const {
+    return Error{source_ + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what};
+  }
+  int linkLine(const std::string& link) const {
+    const auto it = xml_.links.find(link);
+    return it == xml_.links.end() ? 0 : it->second.line;
+  }
+  std::optional<Error> checkOptions() const;
+  std::optional<Error> crossCheck(const urdf::ModelInterface& model) const;
+  Result<LinkMass> linkMassFromInertial(const urdf::Link& link);
+  Result<LinkMass> linkMassFromGeometry(const urdf::Link& link,
+                                        const detail::MassFromGeometry& spec) const;
+  Result<BodyModel> buildBody(const BodyRoot& root, std::vector<BodyRoot>* more_roots);
+  std::vector<urdf::JointSharedPtr> childJoints(const urdf::Link& link) const;
+
+  const std::string& source_;
+  const std::string& base_dir_;
+  const SceneOptions& options_;
+  detail::UrdfXml xml_;
+  const urdf::ModelInterface* model_ = nullptr;
+  std::unordered_map<std::string, LinkMass> masses_;
+  std::vector<std::string> warnings_;
+};
+
+std::optional<Error> Loader::checkOptions() const {
+  if (!std::isfinite(options_.lambda) || !(options_.lambda > 0))
+    return fail(0, "SceneOptions::lambda (the CGA length scale) must be finite and > 0 (got " +
+                       num(options_.lambda) + ")");
+  if (!options_.gravity_W.allFinite()) return fail(0, "SceneOptions::gravity_W must be finite");
+  if (options_.world_frame.empty()) return fail(0, "SceneOptions::world_frame must not be empty");
+  return std::nullopt;
+}
+
+// urdfdom keeps a link whose <inertial> it cannot read, with mass 0, and only says so on the
+// console. Our XML pass uses the same number syntax, so the two readings must agree; if they
+// ever do not, refuse rather than simulate a different body.
+std::optional<Error> Loader::crossCheck(const urdf::ModelInterface& model) const {
+  if (model.links_.size() != xml_.links.size())
+    return fail(0, "urdfdom read " + std::to_string(model.links_.size()) + " links, the loader " +
+                       std::to_string(xml_.links.size()) + "; refusing an ambiguous file");
+  for (const auto& [name, link] : model.links_) {
+    const auto it = xml_.links.find(name);
+    if (it == xml_.links.end())
+      return fail(0, "urdfdom read a link " + inQuotes(name) + " the loader did not find");
+    const bool has = static_cast<bool>(link->inertial);
+    if (has != it->second.has_inertial || (has && link->inertial->mass != it->second.mass))
+      return fail(it->second.line, "link " + inQuotes(name) +
+                                       ": urdfdom could not read its <inertial> (see its "
+                                       "console message); refusing rather than guessing");
+  }
+  return std::nullopt;
+}
+
+// One link's <inertial>: mass, centre of mass and inertia in the link frame. URDF gives the
+// tensor in the inertial frame I (origin xyz at the centre of mass, axes turned by rpy):
+// J_L = R_LI J_I R_LIᵀ.
+Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
+  const urdf::Inertial& in = *link.inertial;
+  const int line = linkLine(link.name);
+  const std::string owner = "link " + inQuotes(link.name);
+  Eigen::Matrix3d J_I;
+  J_I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  if (!std::isfinite(in.mass)) return fail(line, owner + ": mass must be a finite number");
+  if (!J_I.allFinite()) return fail(line, owner + ": inertia entries must be finite numbers");
+  if (in.mass < 0)
+    return fail(line, owner + ": negative mass " + num(in.mass) +
+                          " kg (a link's mass must be > 0, or 0 for a massless link)");
+  LinkMass out;
+  if (in.mass == 0) {
+    if (!J_I.isZero(0.0))
+      return fail(line, owner +
+                            ": mass is 0 but the inertia is not; a massless link must have "
+                            "zero inertia (or give the link its mass)");
+    return out;  // massless: contributes nothing
+  }
+  // A link's own inertia must be physical: positive semi-definite (a point mass or a thin rod
+  // has zero moments, which merging can fill) and obeying the triangle inequality.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(J_I);
+  Eigen::Vector3d m = eig.eigenvalues();  // ascending
+  const double scale = m.cwiseAbs().maxCoeff();
+  if (m[0] < -dynamics::kTriangleRelSlack * scale)
+    return fail(line, owner +
+                          ": inertia tensor is not positive semi-definite (principal "
+                          "moments " +
+                          num(m[0]) + ", " + num(m[1]) + ", " + num(m[2]) +
+                          " kg m^2); no mass distribution has a negative moment");
+  if (m[2] > (m[0] + m[1]) * (1.0 + dynamics::kTriangleRelSlack)) {
+    const std::string broken = owner +
+                               ": inertia breaks the triangle inequality I1 + I2 >= I3 "
+                               "(principal moments " +
+                               num(m[0]) + " + " + num(m[1]) + " < " + num(m[2]) + " kg m^2)";
+    if (options_.triangle_policy == dynamics::TrianglePolicy::kRefuse)
+      return fail(line, broken + kRelaxHint);
+    // Nearest physical moments (Euclidean distance): project onto I1 + I2 = I3 along (1, 1, −1).
+    const double d = (m[2] - m[0] - m[1]) / 3.0;
+    m += Eigen::Vector3d(d, d, -d);
+    J_I = eig.eigenvectors() * m.asDiagonal() * eig.eigenvectors().transpose();
+    warnings_.push_back(source_ + ":" + std::to_string(line) + ": " + broken +
+                        "; relax_inertia is set: using the nearest physical moments " + num(m[0]) +
+                        ", " + num(m[1]) + ", " + num(m[2]));
+  }
+  MassProperties p;
+  p.mass = in.mass;
+  p.J_F = J_I;
+  out.massive = true;
+  out.in_link = transformed(p, toIsometry(in.origin));
+  return out;
+}
+
+// <cga_rigid_sim:mass_from_geometry>: the collision shapes, each in its origin frame, summed
+// (they are taken as disjoint), with the given density or scaled to the given mass.
+Result<Loader::LinkMass> Loader::linkMassFromGeometry(const urdf::Link& link,
+                                                      const detail::MassFromGeometry& spec) const {
+  using Kind = detail::CollisionGeometry::Kind;
+  const std::string owner = "link " + inQuotes(link.name);
+  const double density = spec.by_mass ? 1.0 : spec.density;
+  std::vector<MassProperties> parts;
+  for (const auto& g : spec.parts) {
+    MassProperties p;
+    switch (g.kind) {
+      case Kind::kBox:
+        p = boxMassProperties(g.size, density);
+        break;
+      case Kind::kCylinder:
+        p = cylinderMassProperties(g.radius, g.length, density);
+        break;
+      case Kind::kSphere:
+        p = sphereMassProperties(g.radius, density);
+        break;
+      case Kind::kMesh: {
+        const auto path = resolveMeshPath(g.filename, base_dir_);
+        if (!path) return fail(g.line, owner + ": " + path.error());
+        auto mesh = readMeshFile(*path);
+        if (!mesh) return fail(g.line, owner + ": " + mesh.error());
+        for (auto& x : mesh->vertices) x = x.cwiseProduct(g.scale);
+        // A mirroring scale turns the winding inside out: swap it back.
+        if (g.scale.prod() < 0)
+          for (auto& t : mesh->triangles) std::swap(t[1], t[2]);
+        auto mp = meshMassProperties(*mesh, density, *path);
+        if (!mp) return fail(g.line, owner + ": " + mp.error());
+        p = *mp;
+        break;
+      }
+    }
+    parts.push_back(transformed(p, g.X_LG));
+  }
+  LinkMass out;
+  out.massive = true;
+  out.in_link = combine(parts);
+  if (spec.by_mass) {
+    const double k = spec.mass / out.in_link.mass;
+    out.in_link.mass = spec.mass;
+    out.in_link.J_F *= k;
+  }
+  return out;
+}
+
+std::vector<urdf::JointSharedPtr> Loader::childJoints(const urdf::Link& link) const {
+  // urdfdom lists child joints by name; the document order is what the user wrote.
+  std::vector<urdf::JointSharedPtr> joints = link.child_joints;
+  std::sort(joints.begin(), joints.end(), [&](const auto& a, const auto& b) {
+    return xml_.joints.at(a->name).order < xml_.joints.at(b->name).order;
+  });
+  return joints;
+}
+
+// One body: the links reached from its root link through fixed joints. Floating joints met on
+// the way start further bodies (appended to `more_roots`).
+Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>* more_roots) {
+  const double lambda = options_.lambda;
+  BodyModel body;
+  body.name = root.link->name;
+  body.is_static = root.is_static;
+  std::vector<std::pair<const urdf::Link*, Eigen::Isometry3d>> links;  // X_RL
+  std::vector<std::pair<const urdf::Link*, Eigen::Isometry3d>> stack{
+      {root.link, Eigen::Isometry3d::Identity()}};
+  while (!stack.empty()) {
+    const auto [link, X_RL] = stack.back();
+    stack.pop_back();
+    links.emplace_back(link, X_RL);
+    const auto joints = childJoints(*link);
+    // Reverse so the first child joint in the document is visited first.
+    for (auto it = joints.rbegin(); it != joints.rend(); ++it) {
+      const urdf::Joint& j = **it;
+      const urdf::Link* child = model_->getLink(j.child_link_name).get();
+      const Eigen::Isometry3d X_RC = X_RL * toIsometry(j.parent_to_joint_origin_transform);
+      if (j.type == urdf::Joint::FIXED) {
+        body.merged_joints.push_back(j.name);
+        stack.emplace_back(child, X_RC);
+      } else if (j.type == urdf::Joint::FLOATING) {
+        more_roots->push_back({child, root.X_WR * X_RC, false});
+      } else {  // the XML pass refuses these first; kept so no joint is ever treated as fixed
+        return fail(xml_.joints.at(j.name).line,
+                    "joint " + inQuotes(j.name) +
+                        " needs articulated dynamics: articulated joints are not simulated yet");
+      }
+    }
+  }
+  std::reverse(body.merged_joints.begin(), body.merged_joints.end());
+
+  std::string link_list;
+  for (const auto& l : links)
+    link_list += (link_list.empty() ? "" : ", ") + inQuotes(l.first->name);
+
+  // The body frame B. Static: the root link frame. Moving: origin at the composite centre of
+  // mass, axes along the principal axes (dynamics::Inertia picks and orders them).
+  Eigen::Isometry3d X_RB = Eigen::Isometry3d::Identity();
+  if (!body.is_static) {
+    std::vector<MassProperties> parts;
+    for (const auto& [link, X_RL] : links) {
+      const LinkMass& lm = masses_.at(link->name);
+      if (lm.massive) parts.push_back(transformed(lm.in_link, X_RL));
+    }
+    const MassProperties sum = combine(parts);
+    if (!(sum.mass > 0))
+      return fail(linkLine(body.name),
+                  "free body " + inQuotes(body.name) + " has no mass: none of its links (" +
+                      link_list + ") has an <inertial> with mass > 0 or a <" +
+                      detail::kMassFromGeometryElement +
+                      ">; a moving body needs mass and inertia (massless links are fine only "
+                      "when merged by fixed joints into a body that has mass; to keep it still, "
+                      "fix it to '" +
+                      options_.world_frame + "' with a fixed joint)");
+    std::string warning;
+    auto inertia = dynamics::Inertia::fromTensor(body.name, sum.mass, sum.J_F,
+                                                 options_.triangle_policy, &warning);
+    if (!inertia) {
+      std::string what = inertia.error() + " [the body of links " + link_list +
+                         (links.size() > 1 ? ", merged by fixed joints" : "") + "]";
+      if (inertia.error().find("triangle") != std::string::npos) what += kRelaxHint;
+      if (inertia.error().find("positive definite") != std::string::npos)
+        what +=
+            "; a free body needs a positive moment of inertia about every axis (e.g. point "
+            "masses on one line have none about that line)";
+      return fail(linkLine(body.name), what);
+    }
+    if (!warning.empty()) warnings_.push_back(source_ + ": " + warning);
+    X_RB.translation() = sum.com_F;
+    X_RB.linear() = inertia->rotationFromPrincipal().toRotationMatrix();
+    body.inertia = *inertia;
+  }
+  const Eigen::Isometry3d X_BR = X_RB.inverse();
+  for (const auto& [link, X_RL] : links)
+    body.links.push_back({link->name, cga::Motor::fromIsometry(X_BR * X_RL, lambda)});
+  body.M_WB0 = cga::Motor::fromIsometry(root.X_WR * X_RB, lambda);
+  return body;
+}
+
+Result<Scene> Loader::load(const std::string& xml) {
+  if (auto err = checkOptions()) return *err;
+  auto checked = detail::readUrdfXml(xml, source_, options_.world_frame);
+  if (!checked) return Error{checked.error()};
+  xml_ = std::move(*checked);
+
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(xml);
+  } catch (const std::exception& e) {
+    return fail(0, std::string("urdfdom refused the robot description: ") + e.what());
+  }
+  if (!model || !model->getRoot())
+    return fail(0,
+                "urdfdom refused the robot description (its reason is printed on the "
+                "console by console_bridge); the loader's own checks of the XML, names, "
+                "joints and inertials passed, so look at <visual>, <material> and the other "
+                "elements urdfdom reads");
+  if (auto err = crossCheck(*model)) return *err;
+  model_ = model.get();
+
+  // (3) every link's mass properties in its own frame.
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  const bool rooted_in_world = root->name == options_.world_frame;
+  for (const auto& [name, link] : model->links_) {
+    const detail::LinkXml& lx = xml_.links.at(name);
+    if (rooted_in_world && name == options_.world_frame) {
+      if (lx.has_inertial || lx.has_mass_from_geometry)
+        warnings_.push_back(source_ + ":" + std::to_string(lx.line) + ": link " + inQuotes(name) +
+                            " is the world frame: its mass is ignored");
+      continue;
+    }
+    Result<LinkMass> lm = lx.has_mass_from_geometry
+                              ? linkMassFromGeometry(*link, lx.mass_from_geometry)
+                          : link->inertial ? linkMassFromInertial(*link)
+                                           : LinkMass{};
+    if (!lm) return Error{lm.error()};
+    masses_.emplace(name, *lm);
+  }
+
+  // (4) bodies.
+  std::vector<BodyRoot> roots;
+  if (rooted_in_world) {
+    for (const auto& j : childJoints(*root)) {
+      const urdf::Link* child = model->getLink(j->child_link_name).get();
+      roots.push_back(
+          {child, toIsometry(j->parent_to_joint_origin_transform), j->type == urdf::Joint::FIXED});
+    }
+  } else {
+    roots.push_back({root.get(), Eigen::Isometry3d::Identity(), false});
+  }
+  Scene scene;
+  scene.source = source_;
+  scene.robot_name = model->getName();
+  scene.lambda = options_.lambda;
+  scene.gravity_W = options_.gravity_W;
+  for (std::size_t k = 0; k < roots.size(); ++k) {
+    const BodyRoot r = roots[k];  // copy: buildBody may grow `roots`
+    auto body = buildBody(r, &roots);
+    if (!body) return Error{body.error()};
+    scene.bodies.push_back(std::move(*body));
+  }
+  std::stable_sort(scene.bodies.begin(), scene.bodies.end(),
+                   [&](const BodyModel& a, const BodyModel& b) {
+                     return xml_.links.at(a.name).order < xml_.links.at(b.name).order;
+                   });
+  scene.warnings = std::move(warnings_);
+
+  // (5) initial state.
+  auto applied = applyInitialState(scene, options_.initial_state);
+  if (!applied) return Error{applied.error()};
+  return scene;
+}
+
+}  // namespace
+
+Result<Scene> loadUrdfFile(const std::string& path, const SceneOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    return Error{"cannot read URDF file '" + path + "': it is a directory"};
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Error{"cannot read URDF file '" + path + "': " + std::strerror(errno)};
+  std::ostringstream text;
+  text << file.rdbuf();
+  const std::string base_dir = fs::path(path).parent_path().string();
+  return Loader(path, base_dir, options).load(text.str());
+}
+
+Result<Scene> loadUrdfString(const std::string& xml, const std::string& source,
+                             const SceneOptions& options) {
+  const std::string base_dir;  // meshes: relative to the current directory
+  return Loader(source, base_dir, options).load(xml);
+}
+
+}  // namespace scene
+}  // namespace cga_rigid_sim

@@ -1,0 +1,462 @@
+#include "urdf_xml.h"
+
+#include <tinyxml2.h>
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <sstream>
+
+namespace cga_rigid_sim {
+namespace scene {
+namespace detail {
+
+namespace {
+
+using tinyxml2::XMLAttribute;
+using tinyxml2::XMLElement;
+
+std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+
+// urdfdom's Vector3::init: the text is split at spaces, empty pieces are skipped, and exactly
+// three numbers must remain.
+bool parseTriple(const char* text, Eigen::Vector3d* out) {
+  std::istringstream in{std::string(text)};
+  std::string piece;
+  int n = 0;
+  while (std::getline(in, piece, ' ')) {
+    if (piece.empty()) continue;
+    if (n == 3 || !parseUrdfNumber(piece.c_str(), &(*out)[n])) return false;
+    ++n;
+  }
+  return n == 3;
+}
+
+// Fixed-axis roll, pitch, yaw as URDF defines them: R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+class Reader {
+ public:
+  Reader(const std::string& source, const std::string& world_frame)
+      : source_(source), world_frame_(world_frame) {}
+
+  Result<UrdfXml> read(const std::string& xml);
+
+ private:
+  struct JointEdge {
+    std::string name, parent, child;
+    int line = 0;
+  };
+
+  Error fail(int line, const std::string& what) const {
+    return Error{source_ + ":" + std::to_string(line) + ": " + what};
+  }
+  // "<owner>: <element attr> must be … (got '…')", or nothing when the attribute is fine.
+  std::optional<Error> readNumberAttr(const XMLElement* e, const char* attr,
+                                      const std::string& owner, bool required, double* out) const;
+  std::optional<Error> readOrigin(const XMLElement* parent, const std::string& owner,
+                                  Eigen::Isometry3d* X) const;
+  std::optional<Error> readGeometry(const XMLElement* holder, const std::string& owner,
+                                    bool for_mass, CollisionGeometry* g) const;
+  std::optional<Error> readLink(const XMLElement* e, int order);
+  std::optional<Error> readJoint(const XMLElement* e, int order);
+  std::optional<Error> readMassFromGeometry(const XMLElement* link, const std::string& owner,
+                                            const XMLElement* ext, LinkXml* out) const;
+  std::optional<Error> checkExtensionPlacement(const XMLElement* robot) const;
+  std::optional<Error> checkTree() const;
+
+  const std::string& source_;
+  const std::string& world_frame_;
+  UrdfXml out_;
+  std::vector<JointEdge> edges_;
+  std::vector<std::string> link_names_;  // document order
+};
+
+std::optional<Error> Reader::readNumberAttr(const XMLElement* e, const char* attr,
+                                            const std::string& owner, bool required,
+                                            double* out) const {
+  const char* text = e->Attribute(attr);
+  if (!text) {
+    if (!required) return std::nullopt;
+    return fail(e->GetLineNum(), owner + ": <" + e->Name() + "> has no " + attr + " attribute");
+  }
+  if (!parseUrdfNumber(text, out))
+    return fail(e->GetLineNum(), owner + ": <" + e->Name() + " " + attr +
+                                     "> must be a finite number (got " + inQuotes(text) + ")");
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::readOrigin(const XMLElement* parent, const std::string& owner,
+                                        Eigen::Isometry3d* X) const {
+  X->setIdentity();
+  const XMLElement* o = parent->FirstChildElement("origin");
+  if (!o) return std::nullopt;
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+  for (const char* attr : {"xyz", "rpy"}) {
+    const char* text = o->Attribute(attr);
+    if (!text) continue;
+    if (!parseTriple(text, attr[0] == 'x' ? &xyz : &rpy))
+      return fail(o->GetLineNum(), owner + ": <" + parent->Name() + "><origin " + attr +
+                                       "> must be three finite numbers (got " + inQuotes(text) +
+                                       ")");
+  }
+  X->linear() = rotationFromRpy(rpy);
+  X->translation() = xyz;
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::readGeometry(const XMLElement* holder, const std::string& owner,
+                                          bool for_mass, CollisionGeometry* g) const {
+  const std::string where = owner + ": <" + holder->Name() + ">";
+  if (auto err = readOrigin(holder, owner, &g->X_LG)) return err;
+  const XMLElement* geometry = holder->FirstChildElement("geometry");
+  if (!geometry) return fail(holder->GetLineNum(), where + " has no <geometry>");
+  const XMLElement* shape = geometry->FirstChildElement();
+  if (!shape) return fail(geometry->GetLineNum(), where + ": <geometry> is empty");
+  g->line = shape->GetLineNum();
+  const std::string kind = shape->Name();
+  const std::string shape_owner = owner + ": <" + holder->Name() + "><" + kind + ">";
+  auto positive = [&](double value, const char* attr) -> std::optional<Error> {
+    if (!for_mass || value > 0) return std::nullopt;
+    std::ostringstream os;
+    os << shape_owner << " " << attr << " must be > 0 to compute mass from geometry (got " << value
+       << ")";
+    return fail(shape->GetLineNum(), os.str());
+  };
+  if (kind == "box") {
+    g->kind = CollisionGeometry::Kind::kBox;
+    const char* text = shape->Attribute("size");
+    if (!text || !parseTriple(text, &g->size))
+      return fail(shape->GetLineNum(), shape_owner + " size must be three finite numbers (got " +
+                                           inQuotes(text ? text : "") + ")");
+    for (int k = 0; k < 3; ++k)
+      if (auto err = positive(g->size[k], "size")) return err;
+  } else if (kind == "cylinder") {
+    g->kind = CollisionGeometry::Kind::kCylinder;
+    if (auto err = readNumberAttr(shape, "radius", owner, true, &g->radius)) return err;
+    if (auto err = readNumberAttr(shape, "length", owner, true, &g->length)) return err;
+    if (auto err = positive(g->radius, "radius")) return err;
+    if (auto err = positive(g->length, "length")) return err;
+  } else if (kind == "sphere") {
+    g->kind = CollisionGeometry::Kind::kSphere;
+    if (auto err = readNumberAttr(shape, "radius", owner, true, &g->radius)) return err;
+    if (auto err = positive(g->radius, "radius")) return err;
+  } else if (kind == "mesh") {
+    g->kind = CollisionGeometry::Kind::kMesh;
+    const char* file = shape->Attribute("filename");
+    if (!file || !*file) return fail(shape->GetLineNum(), shape_owner + " has no filename");
+    g->filename = file;
+    if (const char* text = shape->Attribute("scale")) {
+      if (!parseTriple(text, &g->scale))
+        return fail(shape->GetLineNum(), shape_owner + " scale must be three finite numbers (got " +
+                                             inQuotes(text) + ")");
+      if (for_mass && (g->scale.array() == 0).any())
+        return fail(shape->GetLineNum(), shape_owner + " scale must not be zero");
+    }
+  } else {
+    return fail(shape->GetLineNum(), where + ": unknown geometry <" + kind +
+                                         "> (URDF geometry: box, cylinder, sphere, mesh)");
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::readMassFromGeometry(const XMLElement* link, const std::string& owner,
+                                                  const XMLElement* ext, LinkXml* out) const {
+  MassFromGeometry& m = out->mass_from_geometry;
+  m.line = ext->GetLineNum();
+  const std::string where = owner + ": <" + kMassFromGeometryElement + ">";
+  bool has_density = false, has_mass = false;
+  for (const XMLAttribute* a = ext->FirstAttribute(); a; a = a->Next()) {
+    const std::string name = a->Name();
+    if (name == "density") {
+      has_density = true;
+      if (auto err = readNumberAttr(ext, "density", owner, true, &m.density)) return err;
+    } else if (name == "mass") {
+      has_mass = true;
+      if (auto err = readNumberAttr(ext, "mass", owner, true, &m.mass)) return err;
+    } else if (name.compare(0, 6, "xmlns:") != 0) {
+      return fail(m.line, where + ": unknown attribute " + inQuotes(name) +
+                              " (allowed: density in kg/m^3, or mass in kg)");
+    }
+  }
+  if (has_density == has_mass)
+    return fail(m.line, where + " needs exactly one of density (kg/m^3) or mass (kg)");
+  m.by_mass = has_mass;
+  const double value = has_mass ? m.mass : m.density;
+  if (!(value > 0)) {
+    std::ostringstream os;
+    os << where << " " << (has_mass ? "mass" : "density") << " must be > 0 (got " << value << ")";
+    return fail(m.line, os.str());
+  }
+  for (const XMLElement* c = link->FirstChildElement("collision"); c;
+       c = c->NextSiblingElement("collision")) {
+    CollisionGeometry g;
+    if (auto err = readGeometry(c, owner, true, &g)) return err;
+    m.parts.push_back(g);
+  }
+  if (m.parts.empty())
+    return fail(m.line, where +
+                            " needs at least one <collision> with a <geometry> to compute "
+                            "the mass from");
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::readLink(const XMLElement* e, int order) {
+  const char* name_attr = e->Attribute("name");
+  if (!name_attr || !*name_attr) return fail(e->GetLineNum(), "<link> has no name attribute");
+  const std::string name = name_attr;
+  const std::string owner = "link " + inQuotes(name);
+  LinkXml link;
+  link.order = order;
+  link.line = e->GetLineNum();
+  const auto found = out_.links.find(name);
+  if (found != out_.links.end())
+    return fail(link.line, "duplicate link name " + inQuotes(name) + " (first defined at line " +
+                               std::to_string(found->second.line) + "); link names must be unique");
+
+  const XMLElement* inertial = e->FirstChildElement("inertial");
+  if (inertial) {
+    if (inertial->NextSiblingElement("inertial"))
+      return fail(inertial->NextSiblingElement("inertial")->GetLineNum(),
+                  owner + " has more than one <inertial>");
+    link.has_inertial = true;
+    Eigen::Isometry3d X;
+    if (auto err = readOrigin(inertial, owner, &X)) return err;
+    const XMLElement* mass = inertial->FirstChildElement("mass");
+    if (!mass) return fail(inertial->GetLineNum(), owner + ": <inertial> has no <mass value=...>");
+    if (auto err = readNumberAttr(mass, "value", owner, true, &link.mass)) return err;
+    const XMLElement* inertia = inertial->FirstChildElement("inertia");
+    if (!inertia)
+      return fail(inertial->GetLineNum(),
+                  owner +
+                      ": <inertial> has no <inertia ixx ixy ixz iyy iyz izz> (urdfdom would "
+                      "read the link with zero inertia)");
+    for (const char* attr : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}) {
+      double v = 0;
+      if (auto err = readNumberAttr(inertia, attr, owner, true, &v)) return err;
+    }
+  }
+  for (const char* kind : {"visual", "collision"})
+    for (const XMLElement* c = e->FirstChildElement(kind); c; c = c->NextSiblingElement(kind)) {
+      CollisionGeometry g;
+      if (auto err = readGeometry(c, owner, false, &g)) return err;
+    }
+  for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    if (std::strcmp(c->Name(), kMassFromGeometryElement) != 0) continue;
+    if (link.has_mass_from_geometry)
+      return fail(c->GetLineNum(),
+                  owner + " has more than one <" + std::string(kMassFromGeometryElement) + ">");
+    link.has_mass_from_geometry = true;
+    if (auto err = readMassFromGeometry(e, owner, c, &link)) return err;
+  }
+  if (link.has_inertial && link.has_mass_from_geometry)
+    return fail(link.mass_from_geometry.line,
+                owner + " has both <inertial> and <" + kMassFromGeometryElement +
+                    ">: give one (the extension computes the inertial from the collision "
+                    "geometry)");
+  out_.links.emplace(name, std::move(link));
+  link_names_.push_back(name);
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::readJoint(const XMLElement* e, int order) {
+  const char* name_attr = e->Attribute("name");
+  if (!name_attr || !*name_attr) return fail(e->GetLineNum(), "<joint> has no name attribute");
+  const std::string name = name_attr;
+  const std::string owner = "joint " + inQuotes(name);
+  JointXml joint;
+  joint.order = order;
+  joint.line = e->GetLineNum();
+  const auto found = out_.joints.find(name);
+  if (found != out_.joints.end())
+    return fail(joint.line, "duplicate joint name " + inQuotes(name) + " (first defined at line " +
+                                std::to_string(found->second.line) +
+                                "); joint names must be unique");
+  const char* type = e->Attribute("type");
+  if (!type) return fail(joint.line, owner + " has no type attribute");
+  const std::string t = type;
+  if (t == "revolute" || t == "continuous" || t == "prismatic" || t == "planar")
+    return fail(joint.line, owner + " is of type " + inQuotes(t) +
+                                ", which needs articulated dynamics: articulated joints are not "
+                                "simulated yet (supported: fixed, floating). Use 'fixed' to weld "
+                                "the links into one body or 'floating' to make the child a free "
+                                "body");
+  if (t != "fixed" && t != "floating")
+    return fail(joint.line, owner + ": unknown joint type " + inQuotes(t) +
+                                " (URDF joint types: fixed, floating, revolute, continuous, "
+                                "prismatic, planar; simulated: fixed, floating)");
+  Eigen::Isometry3d X;
+  if (auto err = readOrigin(e, owner, &X)) return err;
+  JointEdge edge;
+  edge.name = name;
+  edge.line = joint.line;
+  for (const char* role : {"parent", "child"}) {
+    const XMLElement* r = e->FirstChildElement(role);
+    const char* link = r ? r->Attribute("link") : nullptr;
+    if (!link || !*link) return fail(joint.line, owner + " has no <" + role + " link=\"...\"/>");
+    (role[0] == 'p' ? edge.parent : edge.child) = link;
+  }
+  out_.joints.emplace(name, joint);
+  edges_.push_back(edge);
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::checkExtensionPlacement(const XMLElement* robot) const {
+  // Every element of the extension must be known and in its place: a misspelt element would
+  // otherwise be ignored silently, like urdfdom ignores it.
+  std::vector<const XMLElement*> stack{robot};
+  const std::size_t prefix = std::strlen(kExtensionPrefix);
+  while (!stack.empty()) {
+    const XMLElement* e = stack.back();
+    stack.pop_back();
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::strncmp(c->Name(), kExtensionPrefix, prefix) == 0) {
+        const bool in_link = std::strcmp(e->Name(), "link") == 0 && e->Parent() == robot;
+        if (std::strcmp(c->Name(), kMassFromGeometryElement) != 0 || !in_link)
+          return fail(c->GetLineNum(), "unknown or misplaced element <" + std::string(c->Name()) +
+                                           "> (the cga_rigid_sim extension has only <" +
+                                           kMassFromGeometryElement +
+                                           ">, directly inside a "
+                                           "<link>)");
+      }
+      stack.push_back(c);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Reader::checkTree() const {
+  std::unordered_map<std::string, const JointEdge*> parent_joint;
+  std::unordered_map<std::string, std::vector<std::string>> children;
+  for (const JointEdge& j : edges_) {
+    const std::string owner = "joint " + inQuotes(j.name);
+    for (const std::string* l : {&j.parent, &j.child})
+      if (!out_.links.count(*l))
+        return fail(j.line, owner + ": " + (l == &j.parent ? "parent" : "child") + " link " +
+                                inQuotes(*l) + " is not defined (no <link name=\"" + *l + "\">)");
+    if (j.parent == j.child)
+      return fail(j.line, owner + " joins link " + inQuotes(j.child) + " to itself");
+    const auto [it, added] = parent_joint.emplace(j.child, &j);
+    if (!added)
+      return fail(j.line, "link " + inQuotes(j.child) + " is the child of two joints, " +
+                              inQuotes(it->second->name) + " (line " +
+                              std::to_string(it->second->line) + ") and " + inQuotes(j.name) +
+                              "; a URDF must be a tree (each link has at most one parent joint)");
+    children[j.parent].push_back(j.child);
+  }
+  if (link_names_.empty()) return fail(1, "the <robot> has no <link>");
+  std::vector<std::string> roots;
+  for (const std::string& l : link_names_)
+    if (!parent_joint.count(l)) roots.push_back(l);
+  if (roots.size() > 1)
+    return fail(out_.links.at(roots[1]).line,
+                "more than one root link: " + inQuotes(roots[0]) + " and " + inQuotes(roots[1]) +
+                    " both have no parent joint; a URDF is one tree (to simulate several bodies, "
+                    "give each a floating joint from a common '" +
+                    world_frame_ + "' link)");
+  // Links not reachable from the root hang in a cycle of joints.
+  std::unordered_map<std::string, bool> reached;
+  if (!roots.empty()) {
+    std::vector<std::string> stack{roots[0]};
+    reached[roots[0]] = true;
+    while (!stack.empty()) {
+      const std::string l = stack.back();
+      stack.pop_back();
+      const auto c = children.find(l);
+      if (c == children.end()) continue;
+      for (const std::string& child : c->second)
+        if (!reached[child]) {
+          reached[child] = true;
+          stack.push_back(child);
+        }
+    }
+  }
+  for (const std::string& l : link_names_) {
+    if (reached.count(l)) continue;
+    // Walk up the parents until a link repeats: that loop is the cycle.
+    std::unordered_map<std::string, int> seen;
+    std::vector<const JointEdge*> path;
+    std::string at = l;
+    while (!seen.count(at)) {
+      seen[at] = static_cast<int>(path.size());
+      path.push_back(parent_joint.at(at));
+      at = path.back()->parent;
+    }
+    std::string joints;
+    for (std::size_t k = seen[at]; k < path.size(); ++k)
+      joints += (joints.empty() ? "" : ", ") + inQuotes(path[k]->name);
+    return fail(
+        path[seen[at]]->line,
+        "the joints " + joints + " form a cycle (link " + inQuotes(l) + " is not connected to " +
+            (roots.empty() ? std::string("any root link") : "the root link " + inQuotes(roots[0])) +
+            "); a URDF must be a tree");
+  }
+  const auto world = parent_joint.find(world_frame_);
+  if (world != parent_joint.end())
+    return fail(world->second->line, "link " + inQuotes(world_frame_) +
+                                         " is the world frame and must be the root of the tree, "
+                                         "but joint " +
+                                         inQuotes(world->second->name) + " makes it a child of " +
+                                         inQuotes(world->second->parent));
+  return std::nullopt;
+}
+
+Result<UrdfXml> Reader::read(const std::string& xml) {
+  tinyxml2::XMLDocument doc;
+  doc.Parse(xml.data(), xml.size());
+  if (doc.Error()) {
+    const char* detail = doc.ErrorStr();
+    return fail(doc.ErrorLineNum(), std::string("malformed XML: ") + (detail ? detail : "") +
+                                        " (the file is not well-formed XML; urdfdom refuses it "
+                                        "too)");
+  }
+  const XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) {
+    const XMLElement* first = doc.FirstChildElement();
+    return fail(first ? first->GetLineNum() : 1,
+                "no <robot> element at the top level (is this a URDF file?)");
+  }
+  const char* robot_name = robot->Attribute("name");
+  if (!robot_name) return fail(robot->GetLineNum(), "the <robot> element has no name attribute");
+  out_.robot_name = robot_name;
+  int order = 0;
+  for (const XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement(), ++order) {
+    if (std::strcmp(e->Name(), "link") == 0) {
+      if (auto err = readLink(e, order)) return *err;
+    } else if (std::strcmp(e->Name(), "joint") == 0) {
+      if (auto err = readJoint(e, order)) return *err;
+    }
+  }
+  if (xml.find(kExtensionPrefix) != std::string::npos)
+    if (auto err = checkExtensionPlacement(robot)) return *err;
+  if (auto err = checkTree()) return *err;
+  return std::move(out_);
+}
+
+}  // namespace
+
+bool parseUrdfNumber(const char* text, double* out) {
+  const char* first = text;
+  while (*first && std::isspace(static_cast<unsigned char>(*first))) ++first;
+  const char* last = first + std::strlen(first);
+  if (first != last && *first == '+' && first + 1 != last && first[1] != '-' && first[1] != '+')
+    ++first;
+  const auto r = std::from_chars(first, last, *out);
+  return r.ec == std::errc() && r.ptr == last && first != last && std::isfinite(*out);
+}
+
+Result<UrdfXml> readUrdfXml(const std::string& xml, const std::string& source,
+                            const std::string& world_frame) {
+  return Reader(source, world_frame).read(xml);
+}
+
+}  // namespace detail
+}  // namespace scene
+}  // namespace cga_rigid_sim
