@@ -81,7 +81,7 @@ dynamics::BodyState placedState(const cga::Motor& M_BL0, const Eigen::Isometry3d
   const Eigen::Quaterniond R_WL(Eigen::Quaterniond(pose_root.linear()).normalized());
   const cga::Motor M_WL0 = cga::Motor::fromPose(R_WL, pose_root.translation(), lambda);
   dynamics::BodyState s;
-  s.M_WB = M_WL0 * M_BL0.reverse();
+  s.M_WB = (M_WL0 * M_BL0.reverse()).normalized();  // a unit motor to round-off
   const Eigen::Quaterniond R_BW = s.M_WB.rotation().conjugate();
   s.omega_B = cga::Bivelocity::fromVelocities(R_BW * w_W, R_BW * v_W, lambda);
   return s;
@@ -562,6 +562,7 @@ Result<bool> World::spawnUrdf(const std::string& name, const std::string& urdf,
   options.lambda = w.lambda;
   options.gravity_W = w.scene.gravity_W;
   options.world_frame = w.config.world_frame;
+  options.triangle_policy = w.config.triangle_policy;
   const std::string source = "spawn_urdf '" + name + "'";
   auto loaded = scene::loadUrdfString(urdf, source, options);
   if (!loaded) return Error{loaded.error()};

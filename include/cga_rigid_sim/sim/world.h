@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/inputs.h"
@@ -82,6 +83,8 @@ struct WorldConfig {
   std::string world_frame = "world";
   double max_force = 1e6;    ///< N (and N m for couples): larger inputs are refused
   double max_impulse = 1e4;  ///< N s (and N m s)
+  /// For URDFs loaded by spawnUrdf (the node's ~relax_inertia).
+  dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kRefuse;
 };
 
 /// Momentum and energy of one body (or of the whole scene, named "total"), world axes.
