@@ -170,12 +170,23 @@ CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, const double* 
   }
 }
 
-// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose.
+// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose. Gravity alone (the
+// common case) is written out: (I∧n)⁻¹ (0, λ m R̃ g) = (0, R̃ g/λ).
 CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const Loads& loads, double lambda, double tau,
                             BodyState& s) {
-  cga::Moment T = loads.gravityMoment_B(inertia.mass(), s.M_WB, lambda);
-  if (loads.hasApplied()) T += loads.appliedMoment_B(s.M_WB, lambda);
-  s.omega_B += tau * inertia.solve(T, lambda);
+  if (loads.hasApplied()) {
+    cga::Moment T = loads.gravityMoment_B(inertia.mass(), s.M_WB, lambda);
+    T += loads.appliedMoment_B(s.M_WB, lambda);
+    s.omega_B += tau * inertia.solve(T, lambda);
+    return;
+  }
+  // R̃ g, the rotation of g by r* = (w, −a): with t = 2 g × a, R̃ g = g + w t + t × a.
+  const Eigen::Quaterniond& r = s.M_WB.rotorQuaternion();
+  const Eigen::Vector3d& g = loads.gravity();
+  const Eigen::Vector3d a = r.vec();
+  const Eigen::Vector3d t = 2.0 * g.cross(a);
+  const Eigen::Vector3d g_B = g + r.w() * t + t.cross(a);
+  s.omega_B.trans += (tau / lambda) * g_B;
 }
 
 // The composition for a fixed number of stages S (unrolled).
