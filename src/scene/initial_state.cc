@@ -36,7 +36,7 @@ std::string allowedKeys() {
 
 std::string num(double x) {
   std::ostringstream os;
-  os.precision(17);
+  os.precision(10);
   os << x;
   return os.str();
 }

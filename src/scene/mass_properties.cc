@@ -83,7 +83,7 @@ Result<MassProperties> meshMassProperties(const TriangleMesh& mesh, double densi
   const double extent = (hi - lo).maxCoeff();
   const double kVolumeTol = 1e3 * std::numeric_limits<double>::epsilon() * extent * extent * extent;
   std::ostringstream os;
-  os.precision(17);
+  os.precision(10);
   if (V < -kVolumeTol) {
     os << "mesh '" << name << "' encloses a negative volume (" << V
        << " m^3): its triangles are wound clockwise seen from outside (normals point inwards); "

@@ -67,8 +67,9 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   std::size_t moving = 0;
   for (const auto& b : scene.bodies) moving += b.is_static ? 0 : 1;
   os << "scene '" << scene.robot_name << "' from " << scene.source << ": " << scene.bodies.size()
-     << " bodies (" << moving << " moving, " << scene.bodies.size() - moving
-     << " static), integrator '" << integrator << "', lambda = " << fmt(scene.lambda) << " m\n";
+     << (scene.bodies.size() == 1 ? " body (" : " bodies (") << moving << " moving, "
+     << scene.bodies.size() - moving << " static), integrator '" << integrator
+     << "', lambda = " << fmt(scene.lambda) << " m\n";
   const auto& names = summaryIntegratorNames();
   if (std::find(names.begin(), names.end(), integrator) == names.end()) {
     os << "  unknown integrator '" << integrator << "' (known:";
@@ -81,8 +82,9 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   else
     os << "  gravity: " << fmt(scene.gravity_W)
        << " m/s^2 on every moving body (uniform, at the centre of mass: no torque)\n";
-  os << "  applied wrenches and impulses: can reach every moving body; a wrench with a torque "
-        "switches 'auto' to exact+kicks while it acts\n";
+  os << "  applied wrenches and impulses: can reach every moving body\n"
+        "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
+        "acts)\n";
   os << "bodies:\n";
   std::map<std::string, std::size_t> path_count;
   for (std::size_t k = 0; k < scene.bodies.size(); ++k) {

@@ -59,9 +59,10 @@ const char* const kRelaxHint =
 
 std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
+// Numbers in messages: 10 significant digits show a triangle inequality broken in the 8th.
 std::string num(double x) {
   std::ostringstream os;
-  os.precision(17);
+  os.precision(10);
   os << x;
   return os.str();
 }

@@ -56,7 +56,7 @@ class Reader {
   };
 
   Error fail(int line, const std::string& what) const {
-    return Error{source_ + ":" + std::to_string(line) + ": " + what};
+    return Error{source_ + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what};
   }
   // "<owner>: <element attr> must be … (got '…')", or nothing when the attribute is fine.
   std::optional<Error> readNumberAttr(const XMLElement* e, const char* attr,
@@ -411,6 +411,8 @@ std::optional<Error> Reader::checkTree() const {
 Result<UrdfXml> Reader::read(const std::string& xml) {
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.data(), xml.size());
+  if (doc.ErrorID() == tinyxml2::XML_ERROR_EMPTY_DOCUMENT)
+    return fail(0, "the robot description is empty (no XML at all)");
   if (doc.Error()) {
     const char* detail = doc.ErrorStr();
     return fail(doc.ErrorLineNum(), std::string("malformed XML: ") + (detail ? detail : "") +
