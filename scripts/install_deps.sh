@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Install the Debian packages cga_rigid_sim needs to build, run and test.
+#
+#   scripts/install_deps.sh [--peers]
+#
+# Debian 12 (and Ubuntu releases with ROS 1 in their archive): ROS 1 from the distribution's
+# packages (under /usr). Ubuntu 20.04: ROS Noetic packages (ros-noetic-*, under /opt/ros/noetic;
+# the packages.ros.org apt source must already be configured).
+# --peers also installs the peer engines and gnuplot used by bench/ (those available only).
+# Does nothing (fast) when everything is installed already. Uses sudo when not root.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+peers=false
+for arg in "$@"; do
+  case "$arg" in
+    --peers) peers=true ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    *) echo "install_deps.sh: unknown argument '$arg'" >&2; exit 2 ;;
+  esac
+done
+
+export PATH="/usr/bin:$PATH"
+
+# Common to both platforms.
+packages=(build-essential cmake pkg-config python3 python3-catkin-pkg
+          libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest)
+
+candidate_of() {  # prints the apt candidate version of $1, or nothing
+  apt-cache policy "$1" 2>/dev/null | awk '/Candidate:/ {print $2}' | grep -v '^(none)$' || true
+}
+
+os_id=$(. /etc/os-release 2>/dev/null && echo "${ID:-}:${VERSION_ID:-}" || true)
+if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] || [[ -n "$(candidate_of ros-noetic-roscpp)" ]]; then
+  platform=noetic
+  packages+=(
+    ros-noetic-catkin ros-noetic-roscpp ros-noetic-rospy ros-noetic-tf2 ros-noetic-tf2-ros
+    ros-noetic-tf2-msgs ros-noetic-tf2-geometry-msgs ros-noetic-geometry-msgs
+    ros-noetic-std-msgs ros-noetic-std-srvs ros-noetic-rosgraph-msgs
+    ros-noetic-message-generation ros-noetic-message-runtime ros-noetic-rosbag
+    ros-noetic-rostopic ros-noetic-roslaunch ros-noetic-rostest ros-noetic-rosunit
+    ros-noetic-rosbash)
+else
+  platform=debian
+  packages+=(
+    catkin ros-base-dev libroscpp-dev libtf2-dev libtf2-ros-dev libtf2-msgs-dev
+    libtf2-geometry-msgs-dev libgeometry-msgs-dev libstd-msgs-dev libstd-srvs-dev
+    libros-rosgraph-msgs-dev ros-message-generation ros-message-runtime ros-std-msgs
+    ros-geometry-msgs librosbag-dev rosbash
+    python3-rospy python3-roslaunch python3-rostest python3-rosunit python3-rosbag
+    python3-rostopic python3-std-msgs python3-geometry-msgs python3-std-srvs
+    python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros)
+fi
+
+peer_packages=(libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev gnuplot-nox)
+
+is_installed() {
+  dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed'
+}
+
+missing=()
+for p in "${packages[@]}"; do
+  is_installed "$p" || missing+=("$p")
+done
+missing_peers=()
+if $peers; then
+  for p in "${peer_packages[@]}"; do
+    if [[ $p == gnuplot-nox ]] && command -v gnuplot >/dev/null; then continue; fi
+    is_installed "$p" || missing_peers+=("$p")
+  done
+fi
+
+if [[ ${#missing[@]} -eq 0 && ${#missing_peers[@]} -eq 0 ]]; then
+  echo "install_deps.sh: all dependencies present ($platform)"
+  exit 0
+fi
+
+if [[ $(id -u) -eq 0 ]]; then
+  as_root=()
+elif command -v sudo >/dev/null; then
+  as_root=(sudo)
+else
+  echo "install_deps.sh: need root or sudo to install: ${missing[*]} ${missing_peers[*]}" >&2
+  exit 1
+fi
+apt_get() {
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get "$@"
+}
+
+echo "install_deps.sh: installing for $platform: ${missing[*]} ${missing_peers[*]}"
+apt_get update -q
+
+if [[ $platform == noetic && ! -d /opt/ros/noetic && -z "$(candidate_of ros-noetic-roscpp)" ]]; then
+  echo "install_deps.sh: ros-noetic-* packages are not available: add the packages.ros.org apt source" >&2
+  exit 1
+fi
+
+# Peers: install only what the archive has, say what is skipped.
+for p in "${missing_peers[@]}"; do
+  if [[ -n "$(candidate_of "$p")" ]]; then
+    missing+=("$p")
+  else
+    echo "install_deps.sh: note: peer package $p is not available here, skipped"
+  fi
+done
+
+if [[ ${#missing[@]} -gt 0 ]]; then
+  apt_get install -y -q --no-install-recommends "${missing[@]}"
+fi
+echo "install_deps.sh: done"

@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Install dependencies, build with tests, run every gtest and rostest, summarize.
+#
+#   scripts/test.sh [extra cmake args, e.g. -DCGA_RIGID_SIM_ASAN=ON]
+#
+# Each registered test target (gtest binary test_<layer>, rostest test/ros/<name>.test) runs
+# with a time limit (CGA_RIGID_SIM_TEST_TIMEOUT seconds, default 600). JUnit results go to
+# build/ws/build/test_results/; the last line printed is "N passed, N failed" (test cases).
+# Exit status is non-zero if a test failed, crashed, timed out or produced no result, or if
+# no test ran at all.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+root=$(pwd)
+
+# One build/test at a time in this checkout (build.sh sees the lock is held).
+mkdir -p build
+if [[ -z "${CGA_RIGID_SIM_LOCK_HELD:-}" ]] && command -v flock >/dev/null; then
+  exec 9>build/.lock
+  flock -n 9 || { echo "test.sh: waiting for another build/test in this checkout"; flock 9; }
+  export CGA_RIGID_SIM_LOCK_HELD=1
+fi
+
+bash scripts/install_deps.sh
+bash scripts/build.sh --tests "$@"
+
+# Environment: Debian python first, the workspace's devel space, a private ROS home, and a
+# master URI that can only be local (rostest starts its own master on a free port).
+export PATH="/usr/bin:$PATH"
+set +u
+if [[ -f /opt/ros/noetic/setup.bash ]]; then
+  # shellcheck disable=SC1091
+  source /opt/ros/noetic/setup.bash
+fi
+# shellcheck disable=SC1091
+source "$root/build/ws/devel/setup.bash"
+set -u
+export ROS_PACKAGE_PATH="$root/build/ws/src${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}"
+export ROS_MASTER_URI=http://localhost:11311
+export ROS_HOSTNAME=localhost
+unset ROS_IP ROS_NAMESPACE
+export ROS_HOME="$root/build/ros_home"
+export ROS_LOG_DIR="$ROS_HOME/log"
+mkdir -p "$ROS_LOG_DIR"
+
+build_dir="$root/build/ws/build"
+results="$build_dir/test_results"
+rm -rf "$results"
+mkdir -p "$results/cga_rigid_sim"
+
+timeout_s="${CGA_RIGID_SIM_TEST_TIMEOUT:-600}"
+
+# The test targets catkin registered for this package, e.g.
+# run_tests_cga_rigid_sim_gtest_test_cga, run_tests_cga_rigid_sim_rostest_test_ros_x.test
+mapfile -t targets < <(make -C "$build_dir" --no-print-directory help |
+  sed -n 's/^\.\.\. \(run_tests_cga_rigid_sim_\(gtest\|rostest\)_..*\)$/\1/p' | sort)
+
+write_failure() {  # $1 = target, $2 = reason; a JUnit file the summary counts as one failure
+  local file="$results/cga_rigid_sim/FAILED-$1.xml"
+  cat >"$file" <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<testsuite name="$1" tests="1" failures="1" errors="0">
+  <testcase classname="$1" name="test_ran"><failure message="$2"/></testcase>
+</testsuite>
+EOF
+}
+
+start=$(date +%s)
+for target in "${targets[@]}"; do
+  echo "test.sh: ---- $target"
+  rc=0
+  timeout --kill-after=30 "$timeout_s" \
+    make -C "$build_dir" --no-print-directory "$target" || rc=$?
+  if [[ $rc -eq 124 || $rc -eq 137 ]]; then
+    echo "test.sh: $target timed out after $timeout_s s"
+    write_failure "$target" "timed out after $timeout_s s"
+  elif [[ $rc -ne 0 ]]; then
+    write_failure "$target" "make $target exited with status $rc"
+  fi
+done
+end=$(date +%s)
+echo "test.sh: ${#targets[@]} test targets ran in $((end - start)) s"
+
+exec /usr/bin/python3 "$root/scripts/summarize_tests.py" "$results"
