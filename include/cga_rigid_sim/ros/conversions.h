@@ -1,0 +1,121 @@
+// Conversions between ROS messages and the core's types (sim/world.h, sim/inputs.h).
+//
+// The node is thin glue: these functions only change representation. Where a message can hold
+// something the core type cannot (a non-unit quaternion, NaN in a field the core never sees),
+// the conversion refuses it with an error naming the message field and the rule, in the same
+// style as World's own refusals ("apply_wrench.f.x: not finite"). Physics validation (limits,
+// unknown bodies and frames, stamps already past) stays in World.
+//
+// Time: every stamp is simulation time. A ROS time t ↔ t.toSec() seconds of simulation; the
+// zero stamp means "the next step" for inputs (sim/inputs.h).
+#pragma once
+
+#include <cga_rigid_sim/BodyState.h>
+#include <cga_rigid_sim/BodyStateArray.h>
+#include <cga_rigid_sim/CgaImpulse.h>
+#include <cga_rigid_sim/CgaWrench.h>
+#include <cga_rigid_sim/Momentum.h>
+#include <cga_rigid_sim/MomentumArray.h>
+#include <geometry_msgs/Point.h>
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Transform.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <geometry_msgs/Vector3.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <ros/time.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/scene.h"
+#include "cga_rigid_sim/sim/inputs.h"
+#include "cga_rigid_sim/sim/world.h"
+
+namespace cga_rigid_sim {
+namespace node {
+
+// ---- time ----
+
+/// Simulation time t (s) as a ROS time (rounded to the nanosecond).
+::ros::Time toRosTime(double t);
+/// A ROS stamp as simulation time, s.
+double toSimTime(const ::ros::Time& stamp);
+
+// ---- geometry ----
+
+Eigen::Vector3d toEigen(const geometry_msgs::Vector3& v);
+Eigen::Vector3d toEigen(const geometry_msgs::Point& p);
+geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v);
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p);
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& T);
+geometry_msgs::Transform toTransformMsg(const Eigen::Isometry3d& T);
+
+/// Largest deviation of |q| from 1 accepted in a pose (hand-typed quaternions with four
+/// digits, e.g. (0.7071, 0, 0, 0.7071), are off by ~1e-5); such a quaternion is normalised.
+constexpr double kQuaternionNormTolerance = 1e-3;
+
+/// A pose as an isometry. Refuses non-finite coordinates and quaternions whose norm is not 1
+/// within kQuaternionNormTolerance (e.g. the all-zero default of a message); `field` names the
+/// pose in the error ("spawn_urdf.pose").
+Result<Eigen::Isometry3d> toIsometry(const geometry_msgs::Pose& pose, const std::string& field);
+
+/// `field`: not finite → error "<field>.x: not finite (NaN or Inf)"; else the vector.
+Result<Eigen::Vector3d> toFiniteEigen(const geometry_msgs::Vector3& v, const std::string& field);
+Result<Eigen::Vector3d> toFiniteEigen(const geometry_msgs::Point& p, const std::string& field);
+
+// ---- inputs (messages → core) ----
+
+/// CgaWrench → WrenchInput. An empty header.frame_id means the world frame. `topic` names the
+/// message in errors ("apply_wrench").
+Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
+                                       const std::string& world_frame, const std::string& topic);
+/// CgaImpulse → ImpulseInput (frames as for CgaWrench).
+Result<sim::ImpulseInput> toImpulseInput(const cga_rigid_sim::CgaImpulse& msg,
+                                         const std::string& world_frame, const std::string& topic);
+/// The plain ROS form: header.frame_id names a link, force and torque act at that link's
+/// origin in its axes, for one step starting at header.stamp. The body is the one that owns
+/// the link (looked up in `scene`).
+Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
+                                       const scene::Scene& scene, const std::string& topic);
+
+/// World's refusals name the core's fields (sim/inputs.h: "apply_impulse.J: ...",
+/// "apply_wrench.couple", "start_time", "frame"); this rewrites the leading field to the
+/// message's own ("apply_impulse.f", "apply_wrench.torque", "header.stamp", "header.frame_id";
+/// for the plain `wrench` topic "wrench.wrench.force", …) so the user reads the field they sent.
+/// `topic` is "apply_wrench", "apply_impulse" or "wrench"; other text is left as it is.
+std::string toMessageFieldNames(const std::string& core_error, const std::string& topic);
+
+/// What set_body_state and spawn_urdf carry: the root link's pose and the velocities of the
+/// centre of mass and the angular velocity, world axes.
+struct PoseTwist {
+  Eigen::Isometry3d pose_root = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d linear_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_W = Eigen::Vector3d::Zero();
+};
+/// Pose and twist, validated (finite, unit quaternion); `field` prefixes errors.
+Result<PoseTwist> toPoseTwist(const geometry_msgs::Pose& pose, const geometry_msgs::Twist& twist,
+                              const std::string& field);
+
+// ---- outputs (core → messages) ----
+
+cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r);
+cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
+                                                const ::ros::Time& stamp,
+                                                const std::string& world_frame);
+/// Pose, CoM, twist (world axes) and the blade coefficients of M_WB and Ω_B.
+cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r);
+cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
+                                                  const ::ros::Time& stamp,
+                                                  const std::string& world_frame);
+geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,
+                                                      const ::ros::Time& stamp);
+tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,
+                                const ::ros::Time& stamp);
+
+}  // namespace node
+}  // namespace cga_rigid_sim

@@ -1,0 +1,295 @@
+#include "cga_rigid_sim/ros/conversions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
+namespace cga_rigid_sim {
+namespace node {
+namespace {
+
+Error notFinite(const std::string& field) { return Error{field + ": not finite (NaN or Inf)"}; }
+
+// The first non-finite coordinate of (x, y, z), named "<field>.x" etc., or an empty string.
+std::string firstNonFinite(double x, double y, double z, const std::string& field) {
+  if (!std::isfinite(x)) return field + ".x";
+  if (!std::isfinite(y)) return field + ".y";
+  if (!std::isfinite(z)) return field + ".z";
+  return {};
+}
+
+// An empty frame_id means the world frame (convenient with `rostopic pub`).
+std::string frameOrWorld(const std::string& frame_id, const std::string& world_frame) {
+  return frame_id.empty() ? world_frame : frame_id;
+}
+
+}  // namespace
+
+// ---- time ----
+
+::ros::Time toRosTime(double t) { return ::ros::Time().fromSec(t); }
+double toSimTime(const ::ros::Time& stamp) { return stamp.toSec(); }
+
+// ---- geometry ----
+
+Eigen::Vector3d toEigen(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+Eigen::Vector3d toEigen(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
+
+geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p) {
+  geometry_msgs::Point m;
+  m.x = p.x();
+  m.y = p.y();
+  m.z = p.z();
+  return m;
+}
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& T) {
+  geometry_msgs::Pose m;
+  m.position = toPointMsg(T.translation());
+  const Eigen::Quaterniond q(T.rotation());
+  m.orientation.w = q.w();
+  m.orientation.x = q.x();
+  m.orientation.y = q.y();
+  m.orientation.z = q.z();
+  return m;
+}
+
+geometry_msgs::Transform toTransformMsg(const Eigen::Isometry3d& T) {
+  const geometry_msgs::Pose p = toPoseMsg(T);
+  geometry_msgs::Transform m;
+  m.translation.x = p.position.x;
+  m.translation.y = p.position.y;
+  m.translation.z = p.position.z;
+  m.rotation = p.orientation;
+  return m;
+}
+
+Result<Eigen::Isometry3d> toIsometry(const geometry_msgs::Pose& pose, const std::string& field) {
+  const std::string bad_position =
+      firstNonFinite(pose.position.x, pose.position.y, pose.position.z, field + ".position");
+  if (!bad_position.empty()) return notFinite(bad_position);
+  const auto& o = pose.orientation;
+  if (!std::isfinite(o.w) || !std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.z))
+    return notFinite(field + ".orientation");
+  const double norm = std::sqrt(o.w * o.w + o.x * o.x + o.y * o.y + o.z * o.z);
+  if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+    return Error{field + ".orientation: not a unit quaternion (norm " + std::to_string(norm) +
+                 "); use w: 1 for no rotation"};
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() =
+      Eigen::Quaterniond(o.w / norm, o.x / norm, o.y / norm, o.z / norm).toRotationMatrix();
+  T.translation() = toEigen(pose.position);
+  return T;
+}
+
+Result<Eigen::Vector3d> toFiniteEigen(const geometry_msgs::Vector3& v, const std::string& field) {
+  const std::string bad = firstNonFinite(v.x, v.y, v.z, field);
+  if (!bad.empty()) return notFinite(bad);
+  return toEigen(v);
+}
+
+Result<Eigen::Vector3d> toFiniteEigen(const geometry_msgs::Point& p, const std::string& field) {
+  const std::string bad = firstNonFinite(p.x, p.y, p.z, field);
+  if (!bad.empty()) return notFinite(bad);
+  return toEigen(p);
+}
+
+// ---- inputs ----
+
+Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
+                                       const std::string& world_frame, const std::string& topic) {
+  auto f = toFiniteEigen(msg.f, topic + ".f");
+  if (!f) return Error{f.error()};
+  if (!std::isfinite(msg.alpha)) return notFinite(topic + ".alpha");
+  auto point = toFiniteEigen(msg.point, topic + ".point");
+  if (!point) return Error{point.error()};
+  auto torque = toFiniteEigen(msg.torque, topic + ".torque");
+  if (!torque) return Error{torque.error()};
+  if (!std::isfinite(msg.duration)) return notFinite(topic + ".duration");
+
+  sim::WrenchInput in;
+  in.body = msg.body;
+  in.frame = frameOrWorld(msg.header.frame_id, world_frame);
+  in.F = cga::Force(*f, msg.alpha);
+  in.point = *point;
+  in.couple = *torque;
+  in.start_time = toSimTime(msg.header.stamp);
+  in.duration = msg.duration;
+  return in;
+}
+
+Result<sim::ImpulseInput> toImpulseInput(const cga_rigid_sim::CgaImpulse& msg,
+                                         const std::string& world_frame, const std::string& topic) {
+  auto f = toFiniteEigen(msg.f, topic + ".f");
+  if (!f) return Error{f.error()};
+  if (!std::isfinite(msg.alpha)) return notFinite(topic + ".alpha");
+  auto point = toFiniteEigen(msg.point, topic + ".point");
+  if (!point) return Error{point.error()};
+  auto torque = toFiniteEigen(msg.torque, topic + ".torque");
+  if (!torque) return Error{torque.error()};
+
+  sim::ImpulseInput in;
+  in.body = msg.body;
+  in.frame = frameOrWorld(msg.header.frame_id, world_frame);
+  in.J = cga::Force(*f, msg.alpha);
+  in.point = *point;
+  in.angular = *torque;
+  in.start_time = toSimTime(msg.header.stamp);
+  return in;
+}
+
+Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
+                                       const scene::Scene& scene, const std::string& topic) {
+  const std::string& link = msg.header.frame_id;
+  const int body = link.empty() ? -1 : scene.findLink(link);
+  if (body < 0) {
+    return Error{topic + ".header.frame_id: '" + link +
+                 "' is not a link of any body (the plain wrench acts at a link's origin; use "
+                 "apply_wrench for a wrench in the world frame)"};
+  }
+  auto force = toFiniteEigen(msg.wrench.force, topic + ".wrench.force");
+  if (!force) return Error{force.error()};
+  auto torque = toFiniteEigen(msg.wrench.torque, topic + ".wrench.torque");
+  if (!torque) return Error{torque.error()};
+
+  sim::WrenchInput in;
+  in.body = scene.bodies[static_cast<std::size_t>(body)].name;
+  in.frame = link;
+  in.F = cga::Force(*force, 0.0);
+  in.point = Eigen::Vector3d::Zero();
+  in.couple = *torque;
+  in.start_time = toSimTime(msg.header.stamp);
+  in.duration = 0.0;  // one step
+  return in;
+}
+
+std::string toMessageFieldNames(const std::string& core_error, const std::string& topic) {
+  // (core input name, core field, message field)
+  struct Rename {
+    const char* input;
+    const char* field;
+    const char* message_field;
+  };
+  static const Rename kRenames[] = {
+      {"apply_wrench", "couple", "torque"},
+      {"apply_wrench", "start_time", "header.stamp"},
+      {"apply_wrench", "frame", "header.frame_id"},
+      {"apply_impulse", "J", "f"},
+      {"apply_impulse", "angular", "torque"},
+      {"apply_impulse", "start_time", "header.stamp"},
+      {"apply_impulse", "frame", "header.frame_id"},
+  };
+  static const Rename kPlainWrench[] = {
+      {"apply_wrench", "f", "wrench.force"},          {"apply_wrench", "couple", "wrench.torque"},
+      {"apply_wrench", "start_time", "header.stamp"}, {"apply_wrench", "frame", "header.frame_id"},
+      {"apply_wrench", "body", "header.frame_id"},
+  };
+  const bool plain = topic == "wrench";
+  const std::string input = plain ? "apply_wrench" : topic;
+  const std::string prefix = input + ".";
+  if (core_error.compare(0, prefix.size(), prefix) != 0) return core_error;
+  // The field runs to the next '.', ':' or ' '.
+  const std::size_t start = prefix.size();
+  const std::size_t end = std::min(core_error.find_first_of(".: ", start), core_error.size());
+  const std::string field = core_error.substr(start, end - start);
+  std::string renamed = field;
+  const Rename* first = plain ? std::begin(kPlainWrench) : std::begin(kRenames);
+  const Rename* last = plain ? std::end(kPlainWrench) : std::end(kRenames);
+  for (const Rename* r = first; r != last; ++r)
+    if (input == r->input && field == r->field) renamed = r->message_field;
+  return topic + "." + renamed + core_error.substr(end);
+}
+
+Result<PoseTwist> toPoseTwist(const geometry_msgs::Pose& pose, const geometry_msgs::Twist& twist,
+                              const std::string& field) {
+  auto T = toIsometry(pose, field + ".pose");
+  if (!T) return Error{T.error()};
+  auto linear = toFiniteEigen(twist.linear, field + ".twist.linear");
+  if (!linear) return Error{linear.error()};
+  auto angular = toFiniteEigen(twist.angular, field + ".twist.angular");
+  if (!angular) return Error{angular.error()};
+  PoseTwist out;
+  out.pose_root = *T;
+  out.linear_W = *linear;
+  out.angular_W = *angular;
+  return out;
+}
+
+// ---- outputs ----
+
+cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r) {
+  cga_rigid_sim::Momentum m;
+  m.body = r.body;
+  m.linear = toVector3Msg(r.linear);
+  m.angular = toVector3Msg(r.angular);
+  m.angular_origin = toVector3Msg(r.angular_origin);
+  m.kinetic_energy = r.kinetic_energy;
+  m.potential_energy = r.potential_energy;
+  return m;
+}
+
+cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
+                                                const ::ros::Time& stamp,
+                                                const std::string& world_frame) {
+  cga_rigid_sim::MomentumArray m;
+  m.header.stamp = stamp;
+  m.header.frame_id = world_frame;
+  m.bodies.reserve(reports.size());
+  for (const auto& r : reports) m.bodies.push_back(toMomentumMsg(r));
+  return m;
+}
+
+cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
+  cga_rigid_sim::BodyState m;
+  m.name = r.name;
+  m.pose = toPoseMsg(r.pose_root);
+  m.com = toPointMsg(r.com);
+  m.twist.linear = toVector3Msg(r.linear_velocity);
+  m.twist.angular = toVector3Msg(r.angular_velocity);
+  const auto motor = r.state.M_WB.coefficients();          // 1, e23, e31, e12, e1n, e2n, e3n, e123n
+  const auto bivelocity = r.state.omega_B.coefficients();  // e23, e31, e12, e1n, e2n, e3n
+  std::copy(motor.begin(), motor.end(), m.motor.begin());
+  std::copy(bivelocity.begin(), bivelocity.end(), m.bivelocity.begin());
+  return m;
+}
+
+cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
+                                                  const ::ros::Time& stamp,
+                                                  const std::string& world_frame) {
+  cga_rigid_sim::BodyStateArray m;
+  m.header.stamp = stamp;
+  m.header.frame_id = world_frame;
+  m.bodies.reserve(reports.size());
+  for (const auto& r : reports) m.bodies.push_back(toBodyStateMsg(r));
+  return m;
+}
+
+geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,
+                                                      const ::ros::Time& stamp) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame.parent;
+  m.child_frame_id = frame.child;
+  m.transform = toTransformMsg(frame.pose);
+  return m;
+}
+
+tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,
+                                const ::ros::Time& stamp) {
+  tf2_msgs::TFMessage m;
+  m.transforms.reserve(frames.size());
+  for (const auto& f : frames) m.transforms.push_back(toTransformStampedMsg(f, stamp));
+  return m;
+}
+
+}  // namespace node
+}  // namespace cga_rigid_sim

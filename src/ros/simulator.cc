@@ -1,0 +1,322 @@
+#include "simulator.h"
+
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+#include <std_msgs/UInt64.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <algorithm>
+
+#include "cga_rigid_sim/ros/conversions.h"
+
+namespace cga_rigid_sim {
+namespace node {
+namespace {
+
+// Queue sizes of the output publishers (per subscriber): large enough that a ~step burst
+// reaches rosbag without drops, bounded so a slow subscriber cannot exhaust memory.
+constexpr std::uint32_t kOutputQueueSize = 1000;
+constexpr std::uint32_t kClockQueueSize = 1000;
+
+// Steps between two shutdown checks inside a long ~step call.
+constexpr std::uint64_t kShutdownCheckSteps = 1024;
+
+::ros::WallDuration toWall(std::chrono::steady_clock::duration d) {
+  return ::ros::WallDuration(std::chrono::duration<double>(d).count());
+}
+
+}  // namespace
+
+Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
+                     std::unique_ptr<sim::World> world)
+    : nh_(nh),
+      pnh_(pnh),
+      params_(params),
+      world_(std::move(world)),
+      output_ticks_(world_->config().dt, params.publish_rate),
+      clock_ticks_(world_->config().dt, params.clock_rate),
+      pacer_(world_->config().dt, params.real_time_factor),
+      paused_(params.paused) {
+  // tf and /clock keep their global names (remappable as usual); the rest is private.
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", kOutputQueueSize);
+  tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
+  if (params_.publish_clock)
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueueSize);
+  momentum_pub_ = pnh_.advertise<cga_rigid_sim::MomentumArray>("momentum", kOutputQueueSize);
+  body_states_pub_ = pnh_.advertise<cga_rigid_sim::BodyStateArray>("body_states", kOutputQueueSize);
+  rejected_pub_ = pnh_.advertise<std_msgs::UInt64>("rejected_inputs", 1, /*latch=*/true);
+
+  subscribers_.push_back(
+      pnh_.subscribe("apply_wrench", kInputQueueSize, &Simulator::onApplyWrench, this));
+  subscribers_.push_back(
+      pnh_.subscribe("apply_impulse", kInputQueueSize, &Simulator::onApplyImpulse, this));
+  subscribers_.push_back(pnh_.subscribe("wrench", kInputQueueSize, &Simulator::onWrench, this));
+
+  services_.push_back(pnh_.advertiseService("pause", &Simulator::onPause, this));
+  services_.push_back(pnh_.advertiseService("unpause", &Simulator::onUnpause, this));
+  services_.push_back(pnh_.advertiseService("reset", &Simulator::onReset, this));
+  services_.push_back(pnh_.advertiseService("clear_wrenches", &Simulator::onClearWrenches, this));
+  services_.push_back(pnh_.advertiseService("step", &Simulator::onStep, this));
+  services_.push_back(pnh_.advertiseService("get_body_state", &Simulator::onGetBodyState, this));
+  services_.push_back(pnh_.advertiseService("set_body_state", &Simulator::onSetBodyState, this));
+  services_.push_back(pnh_.advertiseService("spawn_urdf", &Simulator::onSpawnUrdf, this));
+  services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
+}
+
+// ---- main loop ----
+
+int Simulator::run() {
+  using Clock = RealTimePacer::Clock;
+  ::ros::CallbackQueue& queue = *::ros::getGlobalCallbackQueue();
+
+  publishRejectedCount();
+  publishStaticFrames();
+  publishClock();
+  publishOutputs();
+  ROS_INFO("simulator: %s, dt %g s, real_time_factor %g%s, publishing at %g Hz%s",
+           world_->summary().c_str(), world_->config().dt, params_.real_time_factor,
+           params_.real_time_factor == 0.0 ? " (as fast as possible)" : "", params_.publish_rate,
+           paused_ ? "; paused (call ~unpause or ~step)" : "");
+
+  const bool paced = params_.real_time_factor > 0.0;
+  pacer_.restart(world_->stepCount(), Clock::now());
+  Clock::time_point last_service = Clock::now();
+  while (::ros::ok()) {
+    if (paused_) {
+      queue.callAvailable(toWall(kMaxWait));
+      disturbed_ = true;  // time spent paused does not count against real time
+      continue;
+    }
+    if (disturbed_) {
+      disturbed_ = false;
+      pacer_.restart(world_->stepCount(), Clock::now());
+    }
+
+    if (paced) {
+      // Sleep until the step's deadline, servicing callbacks meanwhile.
+      const Clock::time_point deadline = pacer_.deadline(world_->stepCount() + 1);
+      bool interrupted = false;
+      for (Clock::time_point now = Clock::now(); now < deadline; now = Clock::now()) {
+        queue.callAvailable(toWall(std::min<Clock::duration>(deadline - now, kMaxWait)));
+        if (paused_ || disturbed_ || !::ros::ok()) {
+          interrupted = true;
+          break;
+        }
+      }
+      if (interrupted) continue;
+    } else if (Clock::now() - last_service >= kServiceInterval) {
+      queue.callAvailable(::ros::WallDuration(0));
+      last_service = Clock::now();
+      if (paused_ || disturbed_) continue;
+    }
+
+    world_->step();
+    publishAfterStep();
+
+    if (paced) {
+      if (auto achieved = pacer_.onStep(world_->stepCount(), Clock::now())) {
+        ROS_WARN(
+            "simulator: cannot keep real_time_factor %g: achieved %.3g over the last %g s "
+            "of wall time (set ~real_time_factor lower, or 0 for as fast as possible)",
+            params_.real_time_factor, *achieved,
+            std::chrono::duration<double>(RealTimePacer::kWindow).count());
+      }
+    }
+  }
+  ROS_INFO("simulator: shutting down at t = %.6f s after %llu steps", world_->time(),
+           static_cast<unsigned long long>(world_->stepCount()));
+  return 0;
+}
+
+void Simulator::advance(std::uint64_t n) {
+  for (std::uint64_t i = 0; i < n; ++i) {
+    if (i % kShutdownCheckSteps == kShutdownCheckSteps - 1 && !::ros::ok()) break;
+    world_->step();
+    publishAfterStep();
+  }
+}
+
+void Simulator::publishAfterStep() {
+  const std::uint64_t s = world_->stepCount();
+  if (params_.publish_clock && clock_ticks_.isTick(s)) publishClock();
+  if (output_ticks_.isTick(s)) publishOutputs();
+}
+
+// ---- publishing ----
+
+void Simulator::publishOutputs() {
+  const std::uint64_t s = world_->stepCount();
+  if (s == last_tf_step_) return;
+  const ::ros::Time stamp = toRosTime(world_->time());
+  const std::string& world_frame = world_->config().world_frame;
+
+  const std::vector<sim::FramePose> frames = world_->movingFrames();
+  if (!frames.empty()) tf_pub_.publish(toTfMessage(frames, stamp));
+  last_tf_step_ = s;
+  last_tf_children_.clear();
+  for (const auto& f : frames) last_tf_children_.insert(f.child);
+
+  momentum_pub_.publish(toMomentumArrayMsg(world_->momentum(), stamp, world_frame));
+  body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
+}
+
+void Simulator::publishClock() {
+  if (!params_.publish_clock) return;
+  const std::uint64_t s = world_->stepCount();
+  if (s == last_clock_step_) return;
+  rosgraph_msgs::Clock msg;
+  msg.clock = toRosTime(world_->time());
+  clock_pub_.publish(msg);
+  last_clock_step_ = s;
+}
+
+void Simulator::publishStaticFrames() {
+  const std::uint64_t version = world_->topologyVersion();
+  if (version == static_version_) return;
+  const std::vector<sim::FramePose> frames = world_->staticFrames();
+  // Latched: the one message a late subscriber gets must hold every static frame. A scene
+  // without static frames sends nothing at start, but an empty message after a delete.
+  if (!frames.empty() || static_version_ != UINT64_MAX)
+    tf_static_pub_.publish(toTfMessage(frames, toRosTime(world_->time())));
+  static_version_ = version;
+}
+
+void Simulator::publishNewMovingFrames() {
+  if (last_tf_step_ != world_->stepCount()) return;  // the next tick sends every frame
+  std::vector<sim::FramePose> fresh;
+  for (const auto& f : world_->movingFrames())
+    if (last_tf_children_.insert(f.child).second) fresh.push_back(f);
+  if (!fresh.empty()) tf_pub_.publish(toTfMessage(fresh, toRosTime(world_->time())));
+}
+
+void Simulator::publishRejectedCount() {
+  std_msgs::UInt64 msg;
+  msg.data = rejected_;
+  rejected_pub_.publish(msg);
+}
+
+void Simulator::refuse(const std::string& what, const std::string& why) {
+  ++rejected_;
+  publishRejectedCount();
+  ROS_WARN_THROTTLE(1.0, "simulator: refused %s: %s (%llu refused so far)", what.c_str(),
+                    why.c_str(), static_cast<unsigned long long>(rejected_));
+}
+
+// ---- topics ----
+
+void Simulator::onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg) {
+  auto in = toWrenchInput(*msg, world_->config().world_frame, "apply_wrench");
+  if (!in) return refuse("apply_wrench", in.error());
+  auto ok = world_->applyWrench(*in);
+  if (!ok) refuse("apply_wrench", toMessageFieldNames(ok.error(), "apply_wrench"));
+}
+
+void Simulator::onApplyImpulse(const cga_rigid_sim::CgaImpulse::ConstPtr& msg) {
+  auto in = toImpulseInput(*msg, world_->config().world_frame, "apply_impulse");
+  if (!in) return refuse("apply_impulse", in.error());
+  auto ok = world_->applyImpulse(*in);
+  if (!ok) refuse("apply_impulse", toMessageFieldNames(ok.error(), "apply_impulse"));
+}
+
+void Simulator::onWrench(const geometry_msgs::WrenchStamped::ConstPtr& msg) {
+  auto in = toWrenchInput(*msg, world_->scene(), "wrench");
+  if (!in) return refuse("wrench", in.error());
+  auto ok = world_->applyWrench(*in);
+  if (!ok) refuse("wrench", toMessageFieldNames(ok.error(), "wrench"));
+}
+
+// ---- services ----
+
+bool Simulator::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = true;
+  markDisturbed();
+  return true;
+}
+
+bool Simulator::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = false;
+  markDisturbed();
+  return true;
+}
+
+bool Simulator::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  world_->reset();
+  markDisturbed();
+  return true;
+}
+
+bool Simulator::onClearWrenches(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  world_->clearWrenches();
+  return true;
+}
+
+bool Simulator::onStep(cga_rigid_sim::Step::Request& req, cga_rigid_sim::Step::Response& res) {
+  advance(req.steps);
+  // The caller wants to see where the steps led, tick or not (each at most once per stamp).
+  publishClock();
+  publishOutputs();
+  res.sim_time = toRosTime(world_->time());
+  markDisturbed();
+  return true;
+}
+
+bool Simulator::onGetBodyState(cga_rigid_sim::GetBodyState::Request& req,
+                               cga_rigid_sim::GetBodyState::Response& res) {
+  // A query changes nothing, so a failure is answered but not counted as a refused input.
+  auto state = world_->getBodyState(req.body);
+  res.success = state.ok();
+  if (!state) {
+    res.message = state.error();
+    return true;
+  }
+  res.state = toBodyStateMsg(*state);
+  return true;
+}
+
+bool Simulator::onSetBodyState(cga_rigid_sim::SetBodyState::Request& req,
+                               cga_rigid_sim::SetBodyState::Response& res) {
+  auto in = toPoseTwist(req.state.pose, req.state.twist, "set_body_state.state");
+  auto ok = in ? world_->setBodyState(req.state.name, in->pose_root, in->linear_W, in->angular_W)
+               : Result<bool>(Error{in.error()});
+  res.success = ok.ok();
+  if (!ok) {
+    res.message = ok.error();
+    refuse("set_body_state", ok.error());
+  }
+  return true;
+}
+
+bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
+                            cga_rigid_sim::SpawnUrdf::Response& res) {
+  auto in = toPoseTwist(req.pose, req.twist, "spawn_urdf");
+  auto ok = in ? world_->spawnUrdf(req.name, req.urdf, in->pose_root, in->linear_W, in->angular_W)
+               : Result<bool>(Error{in.error()});
+  res.success = ok.ok();
+  markDisturbed();
+  if (!ok) {
+    res.message = ok.error();
+    refuse("spawn_urdf", ok.error());
+    return true;
+  }
+  publishStaticFrames();
+  publishNewMovingFrames();
+  ROS_INFO("simulator: spawned '%s'", req.name.c_str());
+  return true;
+}
+
+bool Simulator::onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
+                             cga_rigid_sim::DeleteBody::Response& res) {
+  auto ok = world_->deleteBody(req.body);
+  res.success = ok.ok();
+  if (!ok) {
+    res.message = ok.error();
+    refuse("delete_body", ok.error());
+    return true;
+  }
+  publishStaticFrames();
+  ROS_INFO("simulator: deleted '%s'", req.body.c_str());
+  return true;
+}
+
+}  // namespace node
+}  // namespace cga_rigid_sim

@@ -1,0 +1,117 @@
+// Simulator: the ROS face of one sim::World. Parameters, topics, services, tf2 and /clock
+// (README "The simulator node" has the interface table). Thin: every callback converts a
+// message to the core's types (conversions.h), calls World, and converts the answer back.
+//
+// Threading: one thread. The main loop steps the World and services the callback queue
+// between steps (waiting on it until the next real-time deadline, or every kServiceInterval
+// of wall time when running as fast as possible), so callbacks never race a step and World
+// needs no lock. Each subscriber queue holds at most kInputQueueSize messages, which bounds
+// the work done between two steps.
+//
+// Time: every stamp is simulation time t = stepCount·dt. Inputs carry their own stamps and
+// World applies them at the step they belong to, never by arrival time, so replaying a bag of
+// inputs into a fresh paused node driven by ~step reproduces a run bit for bit.
+#pragma once
+
+#include <cga_rigid_sim/CgaImpulse.h>
+#include <cga_rigid_sim/CgaWrench.h>
+#include <cga_rigid_sim/DeleteBody.h>
+#include <cga_rigid_sim/GetBodyState.h>
+#include <cga_rigid_sim/SetBodyState.h>
+#include <cga_rigid_sim/SpawnUrdf.h>
+#include <cga_rigid_sim/Step.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "cga_rigid_sim/ros/parameters.h"
+#include "cga_rigid_sim/sim/world.h"
+#include "pacing.h"
+
+namespace cga_rigid_sim {
+namespace node {
+
+class Simulator {
+ public:
+  /// Bound on each subscriber's queue (messages): a flood is dropped by roscpp, not stored.
+  static constexpr std::uint32_t kInputQueueSize = 1000;
+  /// Callbacks are serviced at least this often (wall time) while stepping.
+  static constexpr std::chrono::milliseconds kServiceInterval{2};
+  /// Longest single wait on the callback queue (paused, or between real-time steps): bounds
+  /// the reaction to Ctrl-C.
+  static constexpr std::chrono::milliseconds kMaxWait{50};
+
+  Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
+            std::unique_ptr<sim::World> world);
+
+  /// Publishes the initial state, then steps until shutdown. Returns the exit status.
+  int run();
+
+ private:
+  // ---- stepping and publishing ----
+  /// Advances n steps, publishing /clock and the outputs at their ticks; stops early on
+  /// shutdown.
+  void advance(std::uint64_t n);
+  void publishAfterStep();
+  /// tf (moving frames), momentum and body states at the current step, unless tf for this
+  /// stamp was already sent (tf2 must never see the same stamp twice).
+  void publishOutputs();
+  void publishClock();
+  /// The latched /tf_static: every static frame in one message (resent when bodies change).
+  void publishStaticFrames();
+  /// After a spawn at an already published stamp: the new bodies' frames only.
+  void publishNewMovingFrames();
+  void publishRejectedCount();
+  /// Counts and logs one refused input; `what` names the topic or service.
+  void refuse(const std::string& what, const std::string& why);
+  /// Called by every service: the wall time it took must not count against real time.
+  void markDisturbed() { disturbed_ = true; }
+
+  // ---- callbacks ----
+  void onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg);
+  void onApplyImpulse(const cga_rigid_sim::CgaImpulse::ConstPtr& msg);
+  void onWrench(const geometry_msgs::WrenchStamped::ConstPtr& msg);
+  bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onClearWrenches(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onStep(cga_rigid_sim::Step::Request& req, cga_rigid_sim::Step::Response& res);
+  bool onGetBodyState(cga_rigid_sim::GetBodyState::Request& req,
+                      cga_rigid_sim::GetBodyState::Response& res);
+  bool onSetBodyState(cga_rigid_sim::SetBodyState::Request& req,
+                      cga_rigid_sim::SetBodyState::Response& res);
+  bool onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req, cga_rigid_sim::SpawnUrdf::Response& res);
+  bool onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
+                    cga_rigid_sim::DeleteBody::Response& res);
+
+  ::ros::NodeHandle nh_, pnh_;
+  NodeParams params_;
+  std::unique_ptr<sim::World> world_;
+  TickSchedule output_ticks_;
+  TickSchedule clock_ticks_;
+  RealTimePacer pacer_;
+
+  bool paused_ = false;
+  bool disturbed_ = false;
+  std::uint64_t rejected_ = 0;
+  /// Step count of the last tf and of the last /clock sent (none yet: UINT64_MAX), the
+  /// children sent in that tf, and the topology version of the last /tf_static.
+  std::uint64_t last_tf_step_ = UINT64_MAX;
+  std::uint64_t last_clock_step_ = UINT64_MAX;
+  std::set<std::string> last_tf_children_;
+  std::uint64_t static_version_ = UINT64_MAX;
+
+  ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
+  ::ros::Publisher momentum_pub_, body_states_pub_, rejected_pub_;
+  std::vector<::ros::Subscriber> subscribers_;
+  std::vector<::ros::ServiceServer> services_;
+};
+
+}  // namespace node
+}  // namespace cga_rigid_sim

@@ -1,0 +1,62 @@
+// The `simulator` node: reads its parameters, loads the URDF scene, builds the World and runs
+// it (simulator.h). A load failure exits with status 1 and the loader's message (ROS_FATAL).
+#include <ros/ros.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cga_rigid_sim/ros/parameters.h"
+#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/sim/world.h"
+#include "simulator.h"
+
+namespace {
+
+// Logs a multi-line text line by line, so every line carries the node's prefix.
+void logInfoLines(const std::string& text) {
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    if (end > start) ROS_INFO("%s", text.substr(start, end - start).c_str());
+    start = end + 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace cga_rigid_sim;  // NOLINT: main only
+  ::ros::init(argc, argv, "simulator");
+  ::ros::NodeHandle nh;
+  ::ros::NodeHandle pnh("~");
+
+  std::vector<std::string> warnings;
+  auto params = node::readNodeParams(nh, pnh, &warnings);
+  for (const auto& w : warnings) ROS_WARN("simulator: %s", w.c_str());
+  if (!params) {
+    ROS_FATAL("simulator: %s", params.error().c_str());
+    return 1;
+  }
+
+  auto scene =
+      params->urdf_from_file
+          ? scene::loadUrdfFile(params->urdf_file, params->scene)
+          : scene::loadUrdfString(params->urdf_xml, params->urdf_source_name, params->scene);
+  if (!scene) {
+    ROS_FATAL("simulator: cannot load the scene: %s", scene.error().c_str());
+    return 1;
+  }
+  for (const auto& w : scene->warnings) ROS_WARN("simulator: %s", w.c_str());
+  logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
+
+  auto world = sim::World::create(std::move(*scene), params->world);
+  if (!world) {
+    ROS_FATAL("simulator: %s", world.error().c_str());
+    return 1;
+  }
+
+  node::Simulator simulator(nh, pnh, *params, std::move(*world));
+  return simulator.run();
+}
