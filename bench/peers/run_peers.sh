@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Builds and runs the whole peer-engine sweep.
+#
+#   bench/peers/run_peers.sh            # build/peers, results in bench/out
+#
+# Environment: PEER_BUILD_DIR (default <repo>/build/peers), PEER_OUT_DIR
+# (default <repo>/bench/out), PEER_JOBS (default 2: two runners at a time,
+# one per core; 1 gives cleaner timings but takes about twice as long),
+# PEER_ENGINES (default "simbody mujoco bullet dart ode"; only those built
+# are run). Extra arguments are passed to every runner (e.g. --cases thin_rod).
+#
+# Writes <out>/peers_<engine>.csv, <out>/peers_<engine>.log,
+# <out>/reference_<case>.csv (cached truth) and <out>/peers_versions.txt
+# (package versions, engine-reported versions, machine, load averages).
+#
+# Budget: ~4 min of wall time on 2 idle cores (Simbody in one lane, the other
+# four engines in the other lane); longer if the machine is busy.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+build="${PEER_BUILD_DIR:-$root/build/peers}"
+out="${PEER_OUT_DIR:-$root/bench/out}"
+jobs="${PEER_JOBS:-2}"
+engines="${PEER_ENGINES:-simbody mujoco bullet dart ode}"
+
+cmake -S "$here" -B "$build" -DPEER_BENCH_OUT_DIR="$out" >/dev/null
+cmake --build "$build" -j2 >/dev/null
+mkdir -p "$out"
+
+runners=()
+for e in $engines; do
+  if [[ -x "$build/peer_$e" ]]; then runners+=("$e"); else echo "peer_$e not built (engine not found): skipped"; fi
+done
+if [[ ${#runners[@]} -eq 0 ]]; then echo "no peer runner built"; exit 1; fi
+
+t0=$(date +%s)
+load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
+
+# Fill the reference cache once, so parallel runners do not race to compute it.
+"$build/peer_${runners[0]}" --out "$out" --prepare "$@"
+
+run_one() {  # engine [runner args...]
+  local e="$1"
+  shift
+  "$build/peer_$e" --out "$out" "$@" 2>"$out/peers_$e.log" || echo "peer_$e failed (see $out/peers_$e.log)"
+}
+
+if [[ "$jobs" -ge 2 && ${#runners[@]} -ge 2 ]]; then
+  # Lane 1: the first engine (Simbody, the slowest); lane 2: all others.
+  ( run_one "${runners[0]}" "${@}" ) &
+  lane1=$!
+  for e in "${runners[@]:1}"; do run_one "$e" "${@}"; done
+  wait "$lane1"
+else
+  for e in "${runners[@]}"; do run_one "$e" "${@}"; done
+fi
+
+t1=$(date +%s)
+{
+  echo "# peer benchmark run $(date -u +%Y-%m-%dT%H:%M:%SZ), wall ${0##*/}: $((t1 - t0)) s, PEER_JOBS=$jobs"
+  echo "# Debian packages (dpkg-query -W):"
+  dpkg-query -W -f='${Package} ${Version}\n' libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev 2>/dev/null || true
+  echo "# engine-reported versions:"
+  for e in "${runners[@]}"; do "$build/peer_$e" --version; done
+  echo "# compiler: $(${CXX:-c++} --version | head -n1)"
+  echo "# cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores"
+  echo "# load average (1/5/15 min) at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
+} >"$out/peers_versions.txt"
+cat "$out/peers_versions.txt"
