@@ -27,6 +27,15 @@ constexpr std::uint64_t kShutdownCheckSteps = 1024;
 
 }  // namespace
 
+void logInfoLines(const std::string& text) {
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    if (end > start) ROS_INFO("%s", text.substr(start, end - start).c_str());
+    start = end + 1;
+  }
+}
+
 Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
                      std::unique_ptr<sim::World> world)
     : nh_(nh),
@@ -73,10 +82,15 @@ int Simulator::run() {
   publishStaticFrames();
   publishClock();
   publishOutputs();
-  ROS_INFO("simulator: %s, dt %g s, real_time_factor %g%s, publishing at %g Hz%s",
-           world_->summary().c_str(), world_->config().dt, params_.real_time_factor,
+  logInfoLines(world_->summary());
+  const std::string clock = !params_.publish_clock ? "off"
+                            : params_.clock_rate > 0.0
+                                ? "at " + std::to_string(params_.clock_rate) + " Hz"
+                                : "every step";
+  ROS_INFO("simulator: real_time_factor %g%s; tf, momentum and body states at %g Hz; /clock %s%s",
+           params_.real_time_factor,
            params_.real_time_factor == 0.0 ? " (as fast as possible)" : "", params_.publish_rate,
-           paused_ ? "; paused (call ~unpause or ~step)" : "");
+           clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());

@@ -37,6 +37,9 @@
 namespace cga_rigid_sim {
 namespace node {
 
+/// Logs a multi-line text with ROS_INFO line by line, so every line carries the log prefix.
+void logInfoLines(const std::string& text);
+
 class Simulator {
  public:
   /// Bound on each subscriber's queue (messages): a flood is dropped by roscpp, not stored.

@@ -12,20 +12,6 @@
 #include "cga_rigid_sim/sim/world.h"
 #include "simulator.h"
 
-namespace {
-
-// Logs a multi-line text line by line, so every line carries the node's prefix.
-void logInfoLines(const std::string& text) {
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    if (end > start) ROS_INFO("%s", text.substr(start, end - start).c_str());
-    start = end + 1;
-  }
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace cga_rigid_sim;  // NOLINT: main only
   ::ros::init(argc, argv, "simulator");
@@ -49,7 +35,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   for (const auto& w : scene->warnings) ROS_WARN("simulator: %s", w.c_str());
-  logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
+  node::logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
 
   auto world = sim::World::create(std::move(*scene), params->world);
   if (!world) {
