@@ -237,8 +237,6 @@ void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, do
       return compose<1>(inertia, loads, lambda, h, gamma, cache, state);
     case 3:
       return compose<3>(inertia, loads, lambda, h, gamma, cache, state);
-    case 5:
-      return compose<5>(inertia, loads, lambda, h, gamma, cache, state);
     default:
       // Other compositions: stage by stage (correct for any stage count, without the merges).
       for (int i = 0; i < stages; ++i)
