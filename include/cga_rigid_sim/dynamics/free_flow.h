@@ -1,0 +1,118 @@
+// The exact torque-free motion of one rigid body (Euler–Poinsot), written as motor updates.
+//
+// The centre of mass moves on a straight line, x_W(t + h) = x_W(t) + h v_W. The attitude follows
+// the closed-form solution of the free rigid body, by inertia class:
+//   spherical:  w is constant in the body; R(t) = R(0) Rot_B(ŵ, |w| t).
+//   symmetric:  the rotor solution of the lecture notes (J1 = J2, distinct axis e3),
+//               R(t) = exp(−½ (L/J1) t) R(0) exp(−½ w3 (1 − J3/J1) e12 t), i.e. in body form
+//               R(t) = R(0) Rot_B(L̂_B(0), |L| t/J1) Rot_B(e3, β t), β = w3 (1 − J3/J1), and
+//               w_B(t) = Rot(e3, −β t) w_B(0).
+//   asymmetric: L_B(t) from Jacobi's elliptic functions, and the angle ψ(t) of the body about
+//               the fixed world L from the incomplete elliptic integral of the third kind:
+//               R(t) = Q Rot_B(u, ψ(t)) P(t)⁻¹, with P(t) the shortest rotation taking a fixed
+//               principal axis u to L̂_B(t) and Q the constant rotation taking u to L̂_W.
+//               (Derivation above exactFreeFlow in src/dynamics/free_flow.cc. The same
+//               solution as Celledoni, Fassò, Säfström & Zanna, "The exact computation of the
+//               free rigid body motion and its use in splitting methods", SIAM J. Sci. Comput.
+//               30 (2008) 2084–2112, and Landau & Lifshitz, Mechanics, §37.)
+//
+// Every quantity is evaluated from the elapsed time since the cache was built (the elliptic
+// phase, the angles about L and about the body axes), never by compounding rotations, so world L
+// and T are kept to round-off, |L| exactly, and N steps of h equal one step of N h to round-off.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/inertia.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+/// Per-body data of the free flow that depends only on (J, L_B, T), plus the running phase.
+/// Built on the first call, then reused as long as the incoming state is exactly the state the
+/// previous call left (its rotor and angular velocity, bit for bit) and the moments are the same;
+/// anything else (an impulse, a torque kick, a state override) rebuilds it. Gravity and forces
+/// through the centre of mass only change v_B, which the cache does not depend on, so they keep
+/// it valid. A default-constructed cache is empty.
+struct FreeFlowCache {
+  /// Which closed form the cache holds.
+  enum class Path {
+    kNone,        ///< empty: rebuild on the next call
+    kStill,       ///< w = 0: the attitude does not change
+    kUniform,     ///< w constant in the body (spherical body, or spin about a principal axis)
+    kSymmetric,   ///< J1 = J2: the lecture's rotor solution
+    kElliptic,    ///< J1 < J2 < J3 off the separatrix: Jacobi elliptic functions
+    kSeparatrix,  ///< J1 < J2 < J3 on the separatrix (k = 1): hyperbolic functions
+  };
+  Path path = Path::kNone;
+
+  // Validity key: the moments and the rotational state this cache ends at.
+  Eigen::Vector3d key_J = Eigen::Vector3d::Zero();
+  Eigen::Vector4d key_r = Eigen::Vector4d::Zero();  ///< rotor quaternion coefficients (x, y, z, w)
+  Eigen::Vector3d key_w = Eigen::Vector3d::Zero();
+  // The centre of mass: world v_W is constant in the free flow and x_W moves by h v_W. Both are
+  // kept here, with the body-axes v_B/λ, the motor's dual part and λ they were left as, so that
+  // converting v_B and x to and from the motor every step does not make |v| and x random-walk
+  // (they are recomputed from the state whenever it changed: a kick changes v_B, not x).
+  Eigen::Vector3d key_trans = Eigen::Vector3d::Zero();
+  Eigen::Vector4d key_q = Eigen::Vector4d::Zero();  ///< motor dual part coefficients
+  double key_lambda = 0;
+  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d x_W = Eigen::Vector3d::Zero();
+
+  // Every path: R(t) = Q Rot(axis, psi) [...], psi = angle turned since the cache was built
+  // (kept reduced to [−π, π]).
+  Eigen::Quaterniond Q = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< uniform: ŵ; symmetric: L̂_B(0)
+  double rate = 0;  ///< dψ/dt (uniform, symmetric), its linear part (elliptic, separatrix)
+  double psi = 0;
+
+  // Symmetric: the body spin about e3, angle psi3 at rate beta; w_B(0).
+  double beta = 0;
+  double psi3 = 0;
+  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();
+
+  // Elliptic and separatrix: L_a = ρ B_a cn τ, L_b = ρ σ B_b sn τ, L_c = σ B_c dn τ over the
+  // principal axes (a, b, c), b = 2, c the axis the polhode circles; τ = ω_p t + τ0 is the
+  // elliptic phase, kept reduced to [−K, K] (ρ = ±1 tracks the half periods dropped). The angle
+  // about L is ψ(t) = rate t + (half periods) dpsi_half + g(τ) (see free_flow.cc).
+  int ia = 0, ib = 1, ic = 2;
+  double sigma = 1, rho = 1;
+  double Ba = 0, Bb = 0, Bc = 0;
+  double ell = 0;      ///< |L|
+  double G = 0;        ///< B_b² − B_a² = k² B_c²
+  double kp2 = 0;      ///< complementary parameter k'² = 1 − k²
+  double K = 0;        ///< complete integral of the first kind K(k) (quarter period in τ)
+  double omega_p = 0;  ///< dτ/dt
+  bool dual = false;   ///< ψ written with the characteristic N = k²/n instead of n
+  double nchar = 0;    ///< the characteristic used (n or N, |nchar| ≤ k ≤ 1, ≤ 0)
+  double coef_pi = 0;  ///< g(τ) = coef_pi (nchar/3) sn³ R_J(…) + coef_atan atan2(…)
+  double coef_atan = 0;
+  double dpsi_half = 0;          ///< ψ gained per half period 2K of τ, beyond rate·t
+  bool dpsi_half_ready = false;  ///< dpsi_half is computed on first use
+  double tau = 0;                ///< current reduced phase
+  double g_tau = 0;              ///< g at tau
+  // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn (a_j, 1/a_j, b_j), and its limit.
+  static constexpr int kMaxAgm = 40;
+  int agm_levels = 0;
+  double agm_a[kMaxAgm] = {};
+  double agm_inv_a[kMaxAgm] = {};
+  double agm_b[kMaxAgm] = {};
+  double agm_limit = 1;
+};
+
+/// Exact torque-free motion over h: the centre of mass moves on a straight line (x += h v_W),
+/// the attitude follows the exact Euler–Poinsot solution. Exact to round-off at any h (also
+/// h < 0). `cache` belongs to this body; pass the same object on every call (it is rebuilt
+/// whenever the incoming state is not the one the previous call left).
+/// @param inertia principal moments (B is the principal frame; symmetric bodies have J1 = J2)
+/// @param lambda  the CGA length scale λ (the result does not depend on it beyond round-off)
+/// @param h       the time step, s
+/// @param state   M_WB and Ω_B = (w, v/λ), advanced in place
+void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& state,
+                   FreeFlowCache& cache);
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim
