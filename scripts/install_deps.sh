@@ -23,7 +23,7 @@ done
 export PATH="/usr/bin:$PATH"
 
 # Common to both platforms.
-packages=(build-essential cmake pkg-config python3 python3-catkin-pkg
+packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-yaml
           libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest)
 
 candidate_of() {  # prints the apt candidate version of $1, or nothing
@@ -31,15 +31,16 @@ candidate_of() {  # prints the apt candidate version of $1, or nothing
 }
 
 os_id=$(. /etc/os-release 2>/dev/null && echo "${ID:-}:${VERSION_ID:-}" || true)
-if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] || [[ -n "$(candidate_of ros-noetic-roscpp)" ]]; then
+if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] ||
+   [[ $os_id == ubuntu:* && -n "$(candidate_of ros-noetic-roscpp)" ]]; then
   platform=noetic
   packages+=(
     ros-noetic-catkin ros-noetic-roscpp ros-noetic-rospy ros-noetic-tf2 ros-noetic-tf2-ros
     ros-noetic-tf2-msgs ros-noetic-tf2-geometry-msgs ros-noetic-geometry-msgs
     ros-noetic-std-msgs ros-noetic-std-srvs ros-noetic-rosgraph-msgs
     ros-noetic-message-generation ros-noetic-message-runtime ros-noetic-rosbag
-    ros-noetic-rostopic ros-noetic-roslaunch ros-noetic-rostest ros-noetic-rosunit
-    ros-noetic-rosbash)
+    ros-noetic-rostopic ros-noetic-rosservice ros-noetic-roslaunch ros-noetic-rostest
+    ros-noetic-rosunit ros-noetic-rosbash)
 else
   platform=debian
   packages+=(
@@ -48,14 +49,17 @@ else
     libros-rosgraph-msgs-dev ros-message-generation ros-message-runtime ros-std-msgs
     ros-geometry-msgs librosbag-dev rosbash
     python3-rospy python3-roslaunch python3-rostest python3-rosunit python3-rosbag
-    python3-rostopic python3-std-msgs python3-geometry-msgs python3-std-srvs
+    python3-rostopic python3-rosservice python3-std-msgs python3-geometry-msgs python3-std-srvs
     python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros)
 fi
 
 peer_packages=(libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev gnuplot-nox)
 
+# One `dpkg -s` for all packages; a package counts as present when its status is installed.
+installed=" $(dpkg -s "${packages[@]}" "${peer_packages[@]}" 2>/dev/null |
+  awk '/^Package:/ {p = $2} /^Status: install ok installed/ {printf "%s ", p}' || true) "
 is_installed() {
-  dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed'
+  [[ "$installed" == *" $1 "* ]]
 }
 
 missing=()
