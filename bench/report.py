@@ -1,0 +1,726 @@
+#!/usr/bin/python3
+"""Generate docs/benchmarks.md and its diagrams from the benchmark CSVs in bench/out/.
+
+    /usr/bin/python3 bench/report.py [--out bench/out] [--docs docs] [--no-plots]
+
+Reads (whatever exists): ours.csv and peers_<engine>.csv (work-precision), cases.csv (case
+facts and conditioning floors), scaling.csv, node_throughput.csv, peers_versions.txt,
+environment.txt (written by scripts/bench.sh), and bench/target_notes.md (the hand-written
+analysis of missed targets). Writes docs/benchmarks.md and the PNGs under docs/img/ (gnuplot,
+pngcairo). Standard library only.
+"""
+
+import argparse
+import csv
+import glob
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OURS = "cga_rigid_sim"
+OUR_ORDER = ["auto", "exact", "cga4", "cga2", "rk4", "euler"]
+BASELINES = {"euler", "rk4"}
+H_TABLE = 1e-3       # the step of the per-case tables and of several targets
+PLOT_FLOOR = 1e-16   # errors below this print as "< 1e-16" and plot at this value
+AT_FLOOR = 10.0      # "at the conditioning floor": error <= AT_FLOOR x floor
+UNIT_ROUNDOFF = 2.0 ** -53
+
+OUR_COLORS = {"auto": "#000000", "exact": "#2ca02c", "cga4": "#1f77b4", "cga2": "#d62728",
+              "rk4": "#ff7f0e", "euler": "#9467bd"}
+PEER_COLORS = {"mujoco": "#8c564b", "ode": "#e377c2", "bullet": "#7f7f7f", "dart": "#bcbd22",
+               "simbody": "#17becf"}
+EXTRA_PEER_COLORS = ["#aec7e8", "#ffbb78", "#98df8a", "#c5b0d5", "#c49c94"]
+
+CASE_TEXT = {
+    "tennis_racket": "spin about the intermediate axis (Dzhanibekov flips), torque-free",
+    "thin_rod": "fast spin about the long axis of a thin rod with a wobble (stiff), torque-free",
+    "symmetric_top": "prolate symmetric top, torque-free (closed-form solution)",
+    "projectile": "tumbling body thrown under gravity",
+    "constant_torque": "asymmetric body under a constant world-axes couple",
+}
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------------------------
+
+def num(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def read_csv(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def read_work_precision(out):
+    rows = []
+    files = [os.path.join(out, "ours.csv")] + sorted(glob.glob(os.path.join(out, "peers_*.csv")))
+    for path in files:
+        for r in read_csv(path):
+            try:
+                rows.append({
+                    "engine": r["engine"], "config": r["config"], "case": r["case"],
+                    "h": num(r["h"]), "ns": num(r["ns_per_step"]),
+                    "ang": num(r["err_orientation_rad"]), "com": num(r["err_com_m"]),
+                    "E": num(r["err_energy_rel"]), "L": num(r["err_L_rel"]),
+                    "blew": r["blew_up"].strip() not in ("0", ""),
+                })
+            except KeyError:
+                print("report.py: %s: unexpected columns, skipped" % path, file=sys.stderr)
+                break
+    return rows
+
+
+def read_key_values(path):
+    kv = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                if ":" in line:
+                    k, v = line.split(":", 1)
+                    kv[k.strip()] = v.strip()
+    return kv
+
+
+def read_notes(path):
+    """bench/target_notes.md: '## <id>' sections of hand-written analysis."""
+    notes, key = {}, None
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"^## +(\S+)", line)
+                if m:
+                    key = m.group(1)
+                    notes[key] = []
+                elif key is not None:
+                    notes[key].append(line.rstrip("\n"))
+    return {k: "\n".join(v).strip() for k, v in notes.items()}
+
+
+def is_ours(r):
+    return r["engine"] == OURS
+
+
+def label(engine, config):
+    return ("ours: " + config) if engine == OURS else (engine + ": " + config)
+
+
+def series_order(rows):
+    """(engine, config) pairs: ours in OUR_ORDER, then the peers by engine and file order."""
+    seen = []
+    for r in rows:
+        key = (r["engine"], r["config"])
+        if key not in seen:
+            seen.append(key)
+    ours = [k for k in seen if k[0] == OURS]
+    ours.sort(key=lambda k: OUR_ORDER.index(k[1]) if k[1] in OUR_ORDER else 99)
+    peers = [k for k in seen if k[0] != OURS]
+    peers.sort(key=lambda k: k[0])
+    return ours + peers
+
+
+def ok(r):
+    return not r["blew"] and math.isfinite(r["ang"]) and math.isfinite(r["ns"])
+
+
+def same_h(a, b):
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b))
+
+
+# ---------------------------------------------------------------------------------------------
+# Formatting
+# ---------------------------------------------------------------------------------------------
+
+def fmt_err(v, blew=False):
+    if blew:
+        return "blew up"
+    if v is None or math.isnan(v):
+        return "–"
+    if math.isinf(v):
+        return "inf"
+    if v < PLOT_FLOOR:
+        return "< 1e-16"
+    return "%.2e" % v
+
+
+def fmt_ns(v):
+    if v is None or math.isnan(v):
+        return "–"
+    return "%.0f" % v if v >= 100 else "%.1f" % v
+
+
+def fmt_h(h):
+    return ("%g" % h)
+
+
+def md_table(header, rows, align=None):
+    align = align or ["l"] + ["r"] * (len(header) - 1)
+    sep = ["---:" if a == "r" else ":---" for a in align]
+    cell = lambda c: str(c).replace("|", "\\|")  # a bare | would end the cell
+    out = ["| " + " | ".join(cell(c) for c in header) + " |", "| " + " | ".join(sep) + " |"]
+    out += ["| " + " | ".join(cell(c) for c in row) + " |" for row in rows]
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# Plots (gnuplot)
+# ---------------------------------------------------------------------------------------------
+
+def gnuplot_available():
+    return shutil.which("gnuplot") is not None
+
+
+def series_styles(keys):
+    styles, per_engine = {}, {}
+    extra = iter(EXTRA_PEER_COLORS * 4)
+    peer_colors = dict(PEER_COLORS)
+    for engine, config in keys:
+        if engine == OURS:
+            styles[(engine, config)] = 'lw 2.6 dt 1 pt 7 ps 1.1 lc rgb "%s"' % OUR_COLORS.get(
+                config, "#000000")
+        else:
+            if engine not in peer_colors:
+                peer_colors[engine] = next(extra)
+            i = per_engine.get(engine, 0)
+            per_engine[engine] = i + 1
+            styles[(engine, config)] = 'lw 1.3 dt %d pt %d ps 0.9 lc rgb "%s"' % (
+                2 + i % 4, [4, 6, 8, 10, 12, 14, 1, 2, 3][i % 9], peer_colors[engine])
+    return styles
+
+
+def run_gnuplot(script, path):
+    gp = path[:-4] + ".gp"
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(gp, "w") as f:
+        f.write(script)
+    try:
+        subprocess.run(["gnuplot", gp], check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.PIPE, universal_newlines=True)
+    except subprocess.CalledProcessError as e:
+        print("report.py: gnuplot failed on %s:\n%s" % (gp, e.stderr), file=sys.stderr)
+        return False
+    finally:
+        os.remove(gp)
+    return True
+
+
+def plot_header(path, title, xlabel, ylabel, width=1280, height=760):
+    return "\n".join([
+        'set terminal pngcairo enhanced size %d,%d font "Sans,11"' % (width, height),
+        "set output '%s'" % path,
+        "set logscale xy",
+        'set format x "10^{%L}"',
+        'set format y "10^{%L}"',
+        'set xlabel "%s"' % xlabel,
+        'set ylabel "%s"' % ylabel,
+        'set title "%s" noenhanced' % title,
+        'set key outside right top noenhanced font ",9" spacing 1.05',
+        'set grid xtics ytics lc rgb "#e0e0e0"',
+        "",
+    ])
+
+
+def plot_work_precision(rows, case, metric, path, ylabel, floor=None):
+    """Error at T (metric) against ns/step, one line per (engine, config), in h order."""
+    case_rows = [r for r in rows if r["case"] == case and ok(r) and math.isfinite(r[metric])]
+    if not case_rows:
+        return False
+    keys = series_order(case_rows)
+    styles = series_styles(keys)
+    ys = [max(r[metric], PLOT_FLOOR) for r in case_rows]
+    ymax = max(ys + [floor or 0])
+    title = "%s: %s at T = 100 s vs cost (errors < 1e-16 plotted at 1e-16)" % (
+        case, "orientation error" if metric == "ang" else "CoM error")
+    script = plot_header(path, title, "ns per body-step (median of repetitions)", ylabel)
+    script += "set yrange [%g:%g]\n" % (PLOT_FLOOR / 3, 10 ** math.ceil(math.log10(ymax) + 0.3))
+    plots = []
+    for i, key in enumerate(keys):
+        pts = sorted([r for r in case_rows if (r["engine"], r["config"]) == key],
+                     key=lambda r: r["h"])
+        script += "$d%d << EOD\n" % i
+        for r in pts:
+            script += "%.6g %.6g\n" % (r["ns"], max(r[metric], PLOT_FLOOR))
+        script += "EOD\n"
+        plots.append('$d%d using 1:2 with linespoints %s title "%s"' % (
+            i, styles[key], label(*key)))
+    if floor is not None and floor > 0:
+        plots.append('%g with lines lw 1.5 dt 3 lc rgb "#000000" title "conditioning floor"'
+                     % floor)
+    plots.append('%g with lines lw 1 dt 1 lc rgb "#bbbbbb" title "1e-16 (plot floor)"'
+                 % PLOT_FLOOR)
+    script += "plot " + ", \\\n     ".join(plots) + "\n"
+    return run_gnuplot(script, path)
+
+
+def plot_scaling(rows, path):
+    if not rows:
+        return False
+    keys = []
+    for r in rows:
+        k = (r["layer"], r["integrator"])
+        if k not in keys:
+            keys.append(k)
+    script = plot_header(path, "ns per body-step against the number of free bodies (dt = 1 ms)",
+                         "number of bodies N", "ns per body-step", 1100, 650)
+    plots = []
+    for i, (layer, integ) in enumerate(keys):
+        pts = sorted([r for r in rows if (r["layer"], r["integrator"]) == (layer, integ)],
+                     key=lambda r: int(r["n_bodies"]))
+        script += "$d%d << EOD\n" % i
+        for r in pts:
+            script += "%s %s\n" % (r["n_bodies"], r["ns_per_body_step"])
+        script += "EOD\n"
+        style = 'lw 2.2 dt %d pt %d lc rgb "%s"' % (1 if layer == "world" else 2,
+                                                   7 if layer == "world" else 6,
+                                                   OUR_COLORS.get(integ, "#000000"))
+        plots.append('$d%d using 1:2 with linespoints %s title "%s, %s"' % (
+            i, style, integ, "sim::World" if layer == "world" else "bare dynamics loop"))
+    script += "set yrange [*:*]\n"
+    script += "plot " + ", \\\n     ".join(plots) + "\n"
+    return run_gnuplot(script, path)
+
+
+# ---------------------------------------------------------------------------------------------
+# Targets
+# ---------------------------------------------------------------------------------------------
+
+def our_rows(rows, case, config):
+    return sorted([r for r in rows if is_ours(r) and r["case"] == case and r["config"] == config],
+                  key=lambda r: r["h"])
+
+
+def row_at(rows, case, engine, config, h):
+    for r in rows:
+        if (r["case"] == case and r["engine"] == engine and r["config"] == config
+                and same_h(r["h"], h)):
+            return r
+    return None
+
+
+def target_auto_floor(rows, cases):
+    tf = [c for c, info in cases.items() if info.get("torque_free") == "1"]
+    if not tf:
+        return ("not measured", "no torque-free case in cases.csv", "")
+    worst_ratio, worst_at, max_ns, max_ns_at, parts, missing = 0.0, "", 0.0, "", [], []
+    for c in tf:
+        floor = num(cases[c].get("floor_orientation_rad"))
+        rs = our_rows(rows, c, "auto")
+        if not rs:
+            missing.append(c)
+            continue
+        case_ratio = 0.0
+        for r in rs:
+            ratio = float("inf") if not ok(r) else r["ang"] / floor
+            case_ratio = max(case_ratio, ratio)
+            if ratio > worst_ratio:
+                worst_ratio, worst_at = ratio, "%s, h = %s" % (c, fmt_h(r["h"]))
+            if r["ns"] > max_ns:
+                max_ns, max_ns_at = r["ns"], "%s, h = %s" % (c, fmt_h(r["h"]))
+        parts.append("%s: worst error %s rad = %.3g × floor %s" % (
+            c, fmt_err(max(r["ang"] for r in rs)), case_ratio, fmt_err(floor)))
+    if missing:
+        return ("not measured", "no auto rows for " + ", ".join(missing), "")
+    met = worst_ratio <= AT_FLOOR and max_ns <= 150
+    fig = ("worst error/floor %.3g (%s); slowest %s ns/step (%s)" % (
+        worst_ratio, worst_at, fmt_ns(max_ns), max_ns_at))
+    how = []
+    if worst_ratio > AT_FLOOR:
+        how.append("error %.3g× the floor, %.3g× over the allowance of %g× floor" % (
+            worst_ratio, worst_ratio / AT_FLOOR, AT_FLOOR))
+    if max_ns > 150:
+        how.append("%s ns/step, %.0f%% over 150 ns" % (fmt_ns(max_ns), 100 * (max_ns / 150 - 1)))
+    return ("met" if met else "missed", fig, "; ".join(how) + ("<br>" if how else "") +
+            "<br>".join(parts))
+
+
+def target_cga4(rows):
+    r = row_at(rows, "tennis_racket", OURS, "cga4", H_TABLE)
+    if r is None:
+        return ("not measured", "no cga4 row at h = 1 ms", "")
+    e_ok = ok(r) and r["ang"] <= 1e-7
+    t_ok = r["ns"] <= 150
+    how = []
+    if not e_ok:
+        how.append("error %.3g× the target" % (r["ang"] / 1e-7))
+    if not t_ok:
+        how.append("%.0f%% over 150 ns" % (100 * (r["ns"] / 150 - 1)))
+    return ("met" if e_ok and t_ok else "missed",
+            "%s rad at %s ns/step" % (fmt_err(r["ang"], r["blew"]), fmt_ns(r["ns"])),
+            "; ".join(how))
+
+
+def target_cga2(rows, cases):
+    vals = []
+    for c in cases:
+        r = row_at(rows, c, OURS, "cga2", H_TABLE)
+        if r is not None:
+            vals.append((r["ns"], c))
+    if not vals:
+        return ("not measured", "no cga2 rows", "")
+    worst = max(vals)
+    detail = ", ".join("%s %s" % (c, fmt_ns(v)) for v, c in vals)
+    how = "" if worst[0] <= 60 else "worst %.0f%% over 60 ns (%s)" % (
+        100 * (worst[0] / 60 - 1), worst[1])
+    return ("met" if worst[0] <= 60 else "missed",
+            "worst %s ns/step at h = 1 ms (%s)" % (fmt_ns(worst[0]), worst[1]),
+            (how + "<br>" if how else "") + "per case: " + detail)
+
+
+def our_best_at_cost(rows, case, ns_budget):
+    """Our lowest orientation error among runs (any integrator, any h) costing <= ns_budget."""
+    cand = [r for r in rows if is_ours(r) and r["case"] == case and ok(r)
+            and r["ns"] <= ns_budget]
+    if not cand:
+        return None
+    return min(cand, key=lambda r: (r["ang"], r["ns"]))
+
+
+def target_vs_peers(rows, cases):
+    peers = [r for r in rows if not is_ours(r) and ok(r)]
+    if not peers:
+        return ("not measured", "no peer CSVs", "")
+    total, lost = 0, []
+    for p in peers:
+        total += 1
+        ours = our_best_at_cost(rows, p["case"], p["ns"])
+        p_err = max(p["ang"], PLOT_FLOOR)
+        if ours is None:
+            lost.append((float("inf"), p, None))
+        elif max(ours["ang"], PLOT_FLOOR) >= p_err and not (p_err <= PLOT_FLOOR):
+            lost.append((max(ours["ang"], PLOT_FLOOR) / p_err, p, ours))
+    if not lost:
+        return ("met", "all %d peer points beaten at equal or lower cost" % total, "")
+    lost.sort(key=lambda t: -t[0])
+    lines = []
+    for ratio, p, o in lost[:6]:
+        if o is None:
+            lines.append("%s %s h = %s: %s ns/step, cheaper than every run of ours" % (
+                p["case"], label(p["engine"], p["config"]), fmt_h(p["h"]), fmt_ns(p["ns"])))
+        else:
+            lines.append("%s %s h = %s: %s rad at %s ns; our best at ≤ that cost %s rad (%s, "
+                         "h = %s)" % (p["case"], label(p["engine"], p["config"]), fmt_h(p["h"]),
+                                      fmt_err(p["ang"]), fmt_ns(p["ns"]), fmt_err(o["ang"]),
+                                      o["config"], fmt_h(o["h"])))
+    return ("missed", "%d of %d peer points not beaten" % (len(lost), total),
+            "<br>".join(lines) + ("<br>…" if len(lost) > 6 else ""))
+
+
+def target_com(rows, cases):
+    grav = [c for c, info in cases.items() if info.get("has_gravity") == "1"]
+    if not grav:
+        return ("not measured", "no case with gravity", "")
+    worst, worst_at, count = 0.0, "", 0
+    for c in grav:
+        xT = num(cases[c].get("com_T_m"))
+        T = num(cases[c].get("T"))
+        for r in rows:
+            if not is_ours(r) or r["case"] != c or r["config"] in BASELINES:
+                continue
+            count += 1
+            n = round(T / r["h"])
+            bound = n * UNIT_ROUNDOFF * xT
+            ratio = float("inf") if not ok(r) else r["com"] / bound
+            if ratio > worst:
+                worst, worst_at = ratio, "%s %s h = %s: %s m (%.2g of |x(T)|)" % (
+                    c, r["config"], fmt_h(r["h"]), fmt_err(r["com"]), r["com"] / xT)
+    if count == 0:
+        return ("not measured", "no rows", "")
+    return ("met" if worst <= 1 else "missed",
+            "worst %.3g × the round-off bound N·u·|x(T)| (%s)" % (worst, worst_at),
+            "" if worst <= 1 else "%.3g× over the bound" % worst)
+
+
+def target_realtime(node_rows, scaling_rows):
+    row = None
+    for r in node_rows:
+        if (r.get("status") == "ok" and r.get("n_bodies") == "10000"
+                and num(r.get("real_time_factor")) == 1.0):
+            row = r
+    bound = [r for r in scaling_rows if r["layer"] == "world" and r["integrator"] == "auto"
+             and r["n_bodies"] == "10000"]
+    bound_txt = ""
+    if bound:
+        bound_txt = "sim::World alone (auto, no ROS): %s ns/body-step, real-time factor %.3g" % (
+            fmt_ns(num(bound[0]["ns_per_body_step"])), num(bound[0]["real_time_factor"]))
+    if row is None:
+        return ("not measured", "node throughput not measured (see Node throughput)", bound_txt)
+    achieved = num(row["achieved_rtf"])
+    fast = [r for r in node_rows if r.get("status") == "ok" and r.get("n_bodies") == "10000"
+            and num(r.get("real_time_factor")) == 0.0]
+    fast_txt = (", as fast as possible: %.3g× real time" % num(fast[0]["achieved_rtf"])
+                if fast else "")
+    met = achieved >= 0.99
+    return ("met" if met else "missed",
+            "node, N = 10 000, real_time_factor 1: achieved %.3g%s" % (achieved, fast_txt),
+            ("" if met else "%.0f%% short of real time; " % (100 * (1 - achieved))) + bound_txt)
+
+
+# ---------------------------------------------------------------------------------------------
+# The document
+# ---------------------------------------------------------------------------------------------
+
+def environment(out):
+    env = read_key_values(os.path.join(out, "environment.txt"))
+    if "cpu" not in env:
+        try:
+            lscpu = subprocess.run(["lscpu"], stdout=subprocess.PIPE,
+                                   universal_newlines=True).stdout
+            m = re.search(r"Model name:\s*(.+)", lscpu)
+            env["cpu"] = m.group(1).strip() if m else "?"
+        except OSError:
+            env["cpu"] = "?"
+        env.setdefault("cores", str(os.cpu_count()))
+    return env
+
+
+def versions(out):
+    lines = []
+    path = os.path.join(out, "peers_versions.txt")
+    if os.path.exists(path):
+        with open(path) as f:
+            lines = [l.strip() for l in f if l.strip()]
+    return lines
+
+
+def case_section(rows, cases, case, img_dir, img_rel, plots):
+    out = ["### %s" % case, ""]
+    if case in CASE_TEXT:
+        out += [CASE_TEXT[case][0].upper() + CASE_TEXT[case][1:] + ".", ""]
+    info = cases.get(case, {})
+    floor = num(info.get("floor_orientation_rad")) if info else float("nan")
+    if math.isfinite(floor):
+        out += ["Conditioning floor of the orientation at T: %s rad (how far the orientation "
+                "at T moves when the initial angular velocity is rounded once)." %
+                fmt_err(floor), ""]
+    png = "wp_%s.png" % case
+    if plots and plot_work_precision(rows, case, "ang", os.path.join(img_dir, png),
+                                     "orientation error at T (rad)",
+                                     floor if math.isfinite(floor) else None):
+        out += ["![%s work-precision](%s/%s)" % (case, img_rel, png), ""]
+    if info.get("has_gravity") == "1":
+        png = "wp_%s_com.png" % case
+        if plots and plot_work_precision(rows, case, "com", os.path.join(img_dir, png),
+                                         "CoM position error at T (m)"):
+            out += ["![%s CoM error](%s/%s)" % (case, img_rel, png), ""]
+
+    at = [r for r in rows if r["case"] == case and same_h(r["h"], H_TABLE)]
+    keys = series_order(at)
+    table = []
+    for key in keys:
+        r = [x for x in at if (x["engine"], x["config"]) == key][0]
+        name = ("**%s**" % label(*key)) if key[0] == OURS else label(*key)
+        table.append([name, fmt_ns(r["ns"]), fmt_err(r["ang"], r["blew"]),
+                      fmt_err(r["com"], r["blew"]), fmt_err(r["E"], r["blew"]),
+                      fmt_err(r["L"], r["blew"])])
+    if table:
+        out += ["At h = 1 ms (errors at T = 100 s):", ""]
+        out.append(md_table(["engine: config", "ns/step", "orientation (rad)", "CoM (m)",
+                             "energy (rel)", "|L| (rel)"], table))
+        out.append("")
+        ours = [r for r in at if is_ours(r) and ok(r)]
+        peers = [r for r in at if not is_ours(r) and ok(r)]
+        if ours and peers:
+            bo = min(ours, key=lambda r: (max(r["ang"], PLOT_FLOOR), r["ns"]))
+            bp = min(peers, key=lambda r: (max(r["ang"], PLOT_FLOOR), r["ns"]))
+            out += ["Best at h = 1 ms: ours **%s** %s rad at %s ns/step; best peer **%s** %s "
+                    "rad at %s ns/step (error ratio peer/ours %.3g, cost ratio %.3g)." % (
+                        bo["config"], fmt_err(bo["ang"]), fmt_ns(bo["ns"]),
+                        label(bp["engine"], bp["config"]), fmt_err(bp["ang"]), fmt_ns(bp["ns"]),
+                        max(bp["ang"], PLOT_FLOOR) / max(bo["ang"], PLOT_FLOOR),
+                        bp["ns"] / bo["ns"]), ""]
+    blown = sorted({(label(r["engine"], r["config"]), r["h"]) for r in rows
+                    if r["case"] == case and r["blew"]})
+    if blown:
+        by = {}
+        for name, h in blown:
+            by.setdefault(name, []).append(fmt_h(h))
+        out += ["Blew up (not plotted): " + "; ".join(
+            "%s at h = %s" % (n, ", ".join(hs)) for n, hs in sorted(by.items())) + ".", ""]
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
+    ap.add_argument("--docs", default=os.path.join(ROOT, "docs"))
+    ap.add_argument("--no-plots", action="store_true")
+    args = ap.parse_args()
+
+    rows = read_work_precision(args.out)
+    cases = {r["case"]: r for r in read_csv(os.path.join(args.out, "cases.csv"))}
+    scaling = read_csv(os.path.join(args.out, "scaling.csv"))
+    node = read_csv(os.path.join(args.out, "node_throughput.csv"))
+    notes = read_notes(os.path.join(ROOT, "bench", "target_notes.md"))
+    env = environment(args.out)
+    img_dir = os.path.join(args.docs, "img")
+    plots = not args.no_plots and gnuplot_available()
+    if not args.no_plots and not plots:
+        print("report.py: gnuplot not found: no diagrams (install gnuplot-nox)", file=sys.stderr)
+
+    case_names = list(cases) or sorted({r["case"] for r in rows})
+    for c in sorted({r["case"] for r in rows}):
+        if c not in case_names:
+            case_names.append(c)
+
+    doc = ["# Benchmarks", "",
+           "Generated by `bench/report.py` from the CSVs in `bench/out/` (not committed); "
+           "regenerate everything with `bash scripts/bench.sh` (about %s on this machine). "
+           "Do not edit by hand." % env.get("bench_duration", "15 min"), ""]
+
+    # Machine and versions.
+    doc += ["## Machine and versions", ""]
+    env_rows = [["CPU", env.get("cpu", "?")], ["cores", env.get("cores", "?")],
+                ["compiler", env.get("compiler", "?")], ["OS", env.get("os", "?")],
+                ["cga_rigid_sim", env.get("git_describe", "?")],
+                ["date", env.get("date", "?")],
+                ["load before the run", env.get("loadavg", "?")]]
+    doc += [md_table(["", ""], env_rows, ["l", "l"]), ""]
+    peer_versions = versions(args.out)
+    if peer_versions:
+        doc += ["Peer engines (`bench/out/peers_versions.txt`, written by "
+                "`bench/peers/run_peers.sh`):", "", "```"] + peer_versions + ["```", ""]
+
+    # Method.
+    doc += ["## What is measured", "",
+            "* **Work-precision** (`bench_work_precision`, `bench/out/ours.csv`; the peers' "
+            "runners write `bench/out/peers_<engine>.csv` with the same columns). Each case of "
+            "`bench/cases/cases.h` is run to T = 100 s at fixed steps h (the peers' default "
+            "grid: 10 steps from 0.1 ms to 0.1 s). Ours: the dynamics layer alone — one `Inertia`, one "
+            "`BodyState`, one `Integrator`, the case's `Loads` (gravity; the constant torque as "
+            "a world-axes couple); the body is set up in principal axes and the case's initial "
+            "conditions are converted exactly (`bench/case_setup.h`). ns/step is the median over "
+            "repetitions of the whole run (short runs repeated to ≥ 200 000 steps); the peers' "
+            "protocol is in `bench/peers/README.md` (median of 3 timings of the first "
+            "min(N, 20 000) steps of a fresh model; Simbody, 10–60× slower, only h ≥ 1 ms). "
+            "Errors at T "
+            "against the shared long-double reference solution "
+            "(`bench/cases/reference_solution.h`): orientation angle, CoM distance, relative "
+            "energy, relative |L|. Errors below 1e-16 print as \"< 1e-16\" and plot at 1e-16.",
+            "* **Conditioning floor**: the orientation change at T caused by rounding the "
+            "initial angular velocity once (u·|w0| per component, u = 2⁻⁵³, root sum of "
+            "squares over the axes), computed with the reference integrator in long double. "
+            "\"At the floor\" below means within %g× of it." % AT_FLOOR,
+            "* **Scaling** (`bench_scaling`, `bench/out/scaling.csv`): N free asymmetric boxes "
+            "with random spins (fixed seed, no gravity), dt = 1 ms, through `sim::World` and "
+            "through the bare dynamics loop over contiguous arrays.",
+            "* **Node throughput** (`bench/node_throughput.py`, "
+            "`bench/out/node_throughput.csv`): the ROS node on "
+            "`scripts/generate_many_bodies.py N` with tf, momentum and /clock at 100 Hz and a "
+            "subscriber on /tf and ~momentum; steps per second from /clock against wall time.",
+            ""]
+
+    # Targets.
+    tgt = [
+        ("T1", "auto on every torque-free case at the conditioning floor at every step, "
+               "≤ 150 ns/step", target_auto_floor(rows, cases)),
+        ("T2", "cga4 at h = 1 ms ≤ 1e-7 rad on the tennis racket at ≤ 150 ns/step",
+         target_cga4(rows)),
+        ("T3", "cga2 ≤ 60 ns/step (every case, h = 1 ms)", target_cga2(rows, case_names)),
+        ("T4", "lower orientation error than every peer at equal ns/step",
+         target_vs_peers(rows, cases)),
+        ("T5", "CoM under gravity exact to round-off for all but the baselines (euler, rk4)",
+         target_com(rows, cases)),
+        ("T6", "10 000 free bodies at dt = 1 ms in real time on one core, tf and momentum at "
+               "100 Hz", target_realtime(node, scaling)),
+    ]
+    doc += ["## Targets", "",
+            "Reported, not asserted (benchmarks never decide CI's pass/fail).", ""]
+    doc.append(md_table(["", "target", "status", "measured", "detail"],
+                        [[tid, text, "**%s**" % st, fig, det] for tid, text, (st, fig, det)
+                         in tgt], ["l", "l", "l", "l", "l"]))
+    doc.append("")
+    analysis = [(tid, notes[tid]) for tid, _, (st, _, _) in tgt
+                if st != "met" and notes.get(tid)]
+    if analysis:
+        doc += ["### Where we miss, and why", ""]
+        for tid, text in analysis:
+            doc += ["**%s.** %s" % (tid, text), ""]
+    if notes.get("general"):
+        doc += [notes["general"], ""]
+
+    # Work-precision per case.
+    doc += ["## Work-precision per case", ""]
+    if cases:
+        doc.append(md_table(
+            ["case", "torque-free", "gravity", "conditioning floor (rad)"],
+            [[c, "yes" if cases[c].get("torque_free") == "1" else "no",
+              "yes" if cases[c].get("has_gravity") == "1" else "no",
+              fmt_err(num(cases[c].get("floor_orientation_rad")))] for c in case_names
+             if c in cases]))
+        doc.append("")
+    for c in case_names:
+        doc += case_section(rows, cases, c, img_dir, "img", plots)
+
+    # Scaling.
+    doc += ["## Scaling", ""]
+    if scaling:
+        if plots and plot_scaling(scaling, os.path.join(img_dir, "scaling.png")):
+            doc += ["![scaling](img/scaling.png)", ""]
+        ns_list = sorted({int(r["n_bodies"]) for r in scaling})
+        keys = []
+        for r in scaling:
+            k = (r["layer"], r["integrator"])
+            if k not in keys:
+                keys.append(k)
+        table = []
+        for layer, integ in keys:
+            line = ["%s, %s" % ("World" if layer == "world" else "bare loop", integ)]
+            for n in ns_list:
+                m = [r for r in scaling if (r["layer"], r["integrator"]) == (layer, integ)
+                     and int(r["n_bodies"]) == n]
+                line.append(fmt_ns(num(m[0]["ns_per_body_step"])) if m else "–")
+            table.append(line)
+        doc += ["ns per body-step:", "",
+                md_table(["layer, integrator"] + ["N = %d" % n for n in ns_list], table), ""]
+        rt = [r for r in scaling if r["n_bodies"] == "10000"]
+        if rt:
+            doc += ["At N = 10 000 one step takes " + ", ".join(
+                "%s %s: %.2f ms (%.3g× real time)" % (
+                    "World" if r["layer"] == "world" else "bare loop", r["integrator"],
+                    num(r["ms_per_step"]), num(r["real_time_factor"])) for r in rt) + ".", ""]
+    else:
+        doc += ["Not measured (no `bench/out/scaling.csv`).", ""]
+
+    # Node throughput.
+    doc += ["## Node throughput", ""]
+    ok_rows = [r for r in node if r.get("status") == "ok"]
+    if ok_rows:
+        table = [[r["n_bodies"], "0 (max)" if num(r["real_time_factor"]) == 0 else
+                  r["real_time_factor"], "%.0f" % num(r["steps_per_s"]),
+                  "%.3g" % num(r["achieved_rtf"]), fmt_ns(num(r.get("ns_per_body_step"))),
+                  "%.0f" % num(r["tf_received_per_s"]),
+                  "%.3g" % num(r["tf_received_mb_per_s"]),
+                  "%.0f" % num(r["momentum_received_per_s"])]
+                 for r in ok_rows]
+        doc += ["dt = 1 ms, integrator auto, tf, ~momentum and /clock at 100 Hz of simulated "
+                "time; \"received\" counts what the Python subscriber got (it drops what it "
+                "cannot keep up with).", "",
+                md_table(["N", "~real_time_factor", "steps/s", "achieved RTF",
+                          "ns/body-step", "tf received/s", "tf MB/s", "momentum received/s"],
+                         table), ""]
+    skipped = [r for r in node if r.get("status") != "ok"]
+    if skipped:
+        doc += ["Not measured: " + "; ".join(sorted({r.get("status", "?") for r in skipped})),
+                ""]
+    if not node:
+        doc += ["Not measured (no `bench/out/node_throughput.csv`).", ""]
+
+    os.makedirs(args.docs, exist_ok=True)
+    path = os.path.join(args.docs, "benchmarks.md")
+    with open(path, "w") as f:
+        f.write("\n".join(doc).rstrip() + "\n")
+    print("report.py: wrote %s%s" % (path, " and diagrams in " + img_dir if plots else ""))
+
+
+if __name__ == "__main__":
+    main()
