@@ -62,7 +62,21 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
-def read_work_precision(out):
+def read_cpu_times(out):
+    """(engine, config, case, h) -> thread-CPU ns/step from the cputime_<engine>.csv side files."""
+    cpu = {}
+    for path in sorted(glob.glob(os.path.join(out, "cputime_*.csv"))):
+        for r in read_csv(path):
+            try:
+                cpu[(r["engine"], r["config"], r["case"], "%.6g" % num(r["h"]))] = num(
+                    r["cpu_ns_per_step"])
+            except KeyError:
+                break
+    return cpu
+
+
+def read_work_precision(out, clock="wall"):
+    cpu = read_cpu_times(out) if clock == "cpu" else {}
     rows = []
     files = [os.path.join(out, "ours.csv")] + sorted(glob.glob(os.path.join(out, "peers_*.csv")))
     for path in files:
@@ -75,6 +89,9 @@ def read_work_precision(out):
                     "E": num(r["err_energy_rel"]), "L": num(r["err_L_rel"]),
                     "blew": r["blew_up"].strip() not in ("0", ""),
                 })
+                if clock == "cpu":  # no CPU figure: NaN (not plotted), never the wall time
+                    rows[-1]["ns"] = cpu.get((r["engine"], r["config"], r["case"],
+                                              "%.6g" % num(r["h"])), float("nan"))
             except KeyError:
                 print("report.py: %s: unexpected columns, skipped" % path, file=sys.stderr)
                 break
@@ -263,6 +280,7 @@ def plot_work_precision(rows, case, metric, path, ylabel, floor=None):
 
 
 def plot_scaling(rows, path):
+    rows = [r for r in rows if math.isfinite(num(r["ns_per_body_step"]))]
     if not rows:
         return False
     keys = []
@@ -554,11 +572,22 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
     ap.add_argument("--docs", default=os.path.join(ROOT, "docs"))
     ap.add_argument("--no-plots", action="store_true")
+    ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
+                    help="ns from wall time (default) or from the thread-CPU side files "
+                         "(robust to other load on a busy machine)")
     args = ap.parse_args()
 
-    rows = read_work_precision(args.out)
+    rows = read_work_precision(args.out, args.clock)
     cases = {r["case"]: r for r in read_csv(os.path.join(args.out, "cases.csv"))}
     scaling = read_csv(os.path.join(args.out, "scaling.csv"))
+    if args.clock == "cpu":
+        for r in scaling:
+            n = num(r["n_bodies"])
+            dt = num(r["real_time_factor"]) * num(r["ms_per_step"]) * 1e-3  # RTF = dt / step
+            r["ns_per_body_step"] = r.get("cpu_ns_per_body_step", "nan")
+            step_s = num(r["ns_per_body_step"]) * n * 1e-9
+            r["ms_per_step"] = "%.6g" % (step_s * 1e3)
+            r["real_time_factor"] = "%.6g" % (dt / step_s if step_s > 0 else float("nan"))
     node = read_csv(os.path.join(args.out, "node_throughput.csv"))
     notes = read_notes(os.path.join(ROOT, "bench", "target_notes.md"))
     env = environment(args.out)
@@ -591,7 +620,13 @@ def main():
                 "`bench/peers/run_peers.sh`):", "", "```"] + peer_versions + ["```", ""]
 
     # Method.
-    doc += ["## What is measured", "",
+    clock_text = (
+        "Times are **wall-clock** (steady_clock)." if args.clock == "wall" else
+        "Times are **thread CPU time** (CLOCK_THREAD_CPUTIME_ID, the runners' side files "
+        "`cputime_<engine>.csv`), because the machine was busy during the run (load above); "
+        "wall-clock figures are in `bench/out/*.csv`. The node throughput is wall-clock by "
+        "nature.")
+    doc += ["## What is measured", "", clock_text, "",
             "* **Work-precision** (`bench_work_precision`, `bench/out/ours.csv`; the peers' "
             "runners write `bench/out/peers_<engine>.csv` with the same columns). Each case of "
             "`bench/cases/cases.h` is run to T = 100 s at fixed steps h (the peers' default "

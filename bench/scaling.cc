@@ -14,7 +14,10 @@
 // inertia and integrator object take a few hundred bytes to a kilobyte).
 //
 // CSV (bench/out/scaling.csv): layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,
-// real_time_factor — the last is dt over the wall time of one step (≥ 1: real time on one core).
+// real_time_factor,cpu_ns_per_body_step — real_time_factor is dt over the wall time of one step
+// (≥ 1: real time on one core); the last column is the thread CPU time per body-step.
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -40,6 +43,12 @@ namespace benchmark {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double threadCpuSeconds() {
+  timespec ts;
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
 
 // One free body as generated: inertia (principal frame B) and initial state.
 struct Body {
@@ -150,18 +159,26 @@ std::vector<std::string> splitList(const std::string& s) {
   return out;
 }
 
-// Median over reps of the wall time (ns) of `steps` calls of step(steps).
+struct Timing {
+  double wall_ns = 0;  // median over the repetitions
+  double cpu_ns = 0;   // thread CPU time, median (robust to other load on the machine)
+};
+
+// Wall and CPU time (ns) of `steps` steps, median over reps.
 template <class Stepper>
-double timeSteps(Stepper& stepper, long steps, int reps) {
+Timing timeSteps(Stepper& stepper, long steps, int reps) {
   stepper.step(2);  // warm-up: per-body caches are built on the first step
-  std::vector<double> ns;
+  std::vector<double> wall, cpu;
   for (int r = 0; r < reps; ++r) {
+    const double c0 = threadCpuSeconds();
     const auto t0 = Clock::now();
     stepper.step(steps);
-    ns.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count());
+    wall.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count());
+    cpu.push_back((threadCpuSeconds() - c0) * 1e9);
   }
-  std::sort(ns.begin(), ns.end());
-  return ns[ns.size() / 2];
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
 struct WorldStepper {
@@ -233,7 +250,8 @@ int run(int argc, char** argv) {
     return 2;
   }
   std::fprintf(csv,
-               "layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,real_time_factor\n");
+               "layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,real_time_factor,"
+               "cpu_ns_per_body_step\n");
   const double lambda = 1.0;
   const auto t_start = Clock::now();
   for (int n : ns) {
@@ -241,7 +259,7 @@ int run(int argc, char** argv) {
     const long steps = std::max(5L, (body_steps + n - 1) / n);
     for (const std::string& integrator : integrators) {
       for (const std::string& layer : layers) {
-        double ns_total = 0;
+        Timing t;
         bool finite = true;
         if (layer == "world") {
           sim::WorldConfig config;
@@ -253,24 +271,26 @@ int run(int argc, char** argv) {
             return 2;
           }
           WorldStepper stepper{**world};
-          ns_total = timeSteps(stepper, steps, reps);
+          t = timeSteps(stepper, steps, reps);
         } else if (layer == "dynamics") {
           BareLoop loop(bodies, integrator, lambda, dt);
-          ns_total = timeSteps(loop, steps, reps);
+          t = timeSteps(loop, steps, reps);
           finite = loop.allFinite();
         } else {
           std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
           return 2;
         }
-        const double ns_step = ns_total / double(steps);
+        const double ns_step = t.wall_ns / double(steps);
+        const double cpu_body = t.cpu_ns / double(steps) / double(n);
         const double ns_body = ns_step / double(n);
         const double rtf = dt / (ns_step * 1e-9);
-        std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g\n", layer.c_str(), integrator.c_str(), n,
-                     steps, ns_body, ns_step * 1e-6, rtf);
+        std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g\n", layer.c_str(), integrator.c_str(),
+                     n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body);
         std::fflush(csv);
         std::fprintf(stderr,
-                     "[scaling] %-8s %-5s N=%-6d %8.1f ns/body-step  %9.4f ms/step  RTF %.3g%s\n",
-                     layer.c_str(), integrator.c_str(), n, ns_body, ns_step * 1e-6, rtf,
+                     "[scaling] %-8s %-5s N=%-6d %8.1f ns/body-step (cpu %8.1f)  %9.4f ms/step  "
+                     "RTF %.3g%s\n",
+                     layer.c_str(), integrator.c_str(), n, ns_body, cpu_body, ns_step * 1e-6, rtf,
                      finite ? "" : "  NOT FINITE");
       }
     }

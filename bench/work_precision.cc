@@ -22,6 +22,8 @@
 // linear regime) scaled back by u / 2⁻⁴⁰; the three axes are combined as a root sum of squares.
 // No double-precision method can be expected to beat it: every step rounds the state by about
 // that much.
+#include <time.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -50,6 +52,12 @@ namespace benchmark {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double threadCpuSeconds() {
+  timespec ts;
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
 
 const char* const kEngine = "cga_rigid_sim";
 const char* const kHeader =
@@ -212,6 +220,7 @@ void writeCaseFacts(const std::vector<::bench::Case>& cases,
 
 struct Run {
   double ns_per_step = 0;
+  double cpu_ns_per_step = 0;  // thread CPU time: robust to other load on the machine
   dynamics::BodyState final_state;
   bool blew_up = false;
 };
@@ -223,6 +232,7 @@ Run runOnce(const CaseSetup& s, dynamics::Integrator& integrator, double h, long
   dynamics::BodyState state = s.state0;
   const long chunk = std::max(1L, N / 100);
   long done = 0;
+  const double c0 = threadCpuSeconds();
   const auto t0 = Clock::now();
   while (done < N) {
     const long n = std::min(chunk, N - done);
@@ -234,7 +244,9 @@ Run runOnce(const CaseSetup& s, dynamics::Integrator& integrator, double h, long
     }
   }
   const auto t1 = Clock::now();
+  const double c1 = threadCpuSeconds();
   run.ns_per_step = std::chrono::duration<double, std::nano>(t1 - t0).count() / double(done);
+  run.cpu_ns_per_step = (c1 - c0) * 1e9 / double(done);
   run.final_state = state;
   return run;
 }
@@ -254,6 +266,10 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
     return 2;
   }
   std::fprintf(csv, "%s\n", kHeader);
+  // Side file, as the peers write it: the same timing runs in wall and thread-CPU time.
+  const std::string cpu_path = o.out_dir + "/cputime_" + kEngine + ".csv";
+  FILE* cpu_csv = std::fopen(cpu_path.c_str(), "w");
+  if (cpu_csv) std::fprintf(cpu_csv, "engine,config,case,h,wall_ns_per_step,cpu_ns_per_step\n");
   const double inf = std::numeric_limits<double>::infinity();
   const auto t_start = Clock::now();
 
@@ -266,7 +282,7 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
         const long N = std::lround(c.T / h);
         const int reps = static_cast<int>(
             std::min<long>(o.max_reps, std::max<long>(o.reps, (o.min_timed_steps + N - 1) / N)));
-        std::vector<double> ns;
+        std::vector<double> ns, cpu_ns;
         Run first;
         bool deterministic = true;
         for (int r = 0; r < reps; ++r) {
@@ -277,13 +293,16 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
           }
           const Run run = runOnce(setup, **integrator, h, N, w_limit);
           ns.push_back(run.ns_per_step);
+          cpu_ns.push_back(run.cpu_ns_per_step);
           if (r == 0)
             first = run;
           else if (!first.blew_up && !sameState(run.final_state, first.final_state))
             deterministic = false;
         }
         std::sort(ns.begin(), ns.end());
+        std::sort(cpu_ns.begin(), cpu_ns.end());
         const double ns_median = ns[ns.size() / 2];
+        const double cpu_median = cpu_ns[cpu_ns.size() / 2];
         const ::bench::BodyState final_state = toCaseState(setup, first.final_state);
         const bool blew = first.blew_up || blownUp(c, final_state);
         ::bench::Errors e{inf, inf, inf, inf};
@@ -292,16 +311,22 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
                      c.name.c_str(), h, ns_median, e.orientation_rad, e.com_m, e.energy_rel,
                      e.L_rel, blew ? 1 : 0);
         std::fflush(csv);
+        if (cpu_csv) {
+          std::fprintf(cpu_csv, "%s,%s,%s,%.6g,%.6g,%.6g\n", kEngine, name.c_str(), c.name.c_str(),
+                       h, ns_median, cpu_median);
+          std::fflush(cpu_csv);
+        }
         std::fprintf(stderr,
-                     "[ours] %-6s %-16s h=%-7g %8.1f ns/step (x%-4d) ang=%.3e com=%.3e E=%.3e "
-                     "L=%.3e%s%s\n",
-                     name.c_str(), c.name.c_str(), h, ns_median, reps, e.orientation_rad, e.com_m,
-                     e.energy_rel, e.L_rel, blew ? "  BLEW UP" : "",
+                     "[ours] %-6s %-16s h=%-7g %8.1f ns/step (cpu %8.1f, x%-4d) ang=%.3e com=%.3e "
+                     "E=%.3e L=%.3e%s%s\n",
+                     name.c_str(), c.name.c_str(), h, ns_median, cpu_median, reps,
+                     e.orientation_rad, e.com_m, e.energy_rel, e.L_rel, blew ? "  BLEW UP" : "",
                      deterministic ? "" : "  NOT DETERMINISTIC");
       }
     }
   }
   std::fclose(csv);
+  if (cpu_csv) std::fclose(cpu_csv);
   std::fprintf(stderr, "[ours] done in %.1f s -> %s\n",
                std::chrono::duration<double>(Clock::now() - t_start).count(), csv_path.c_str());
   return 0;

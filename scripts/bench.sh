@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerate every benchmark result, docs/benchmarks.md and its diagrams (docs/img/).
 #
-#   scripts/bench.sh [--no-install] [--no-build] [--no-peers] [--no-node] [--quick]
+#   scripts/bench.sh [--no-install] [--no-build] [--no-peers] [--no-node] [--quick] [--cpu-time]
 #
 # Steps: install the peer engines and gnuplot (scripts/install_deps.sh --peers), build with the
 # benchmarks (scripts/build.sh -DBUILD_BENCHMARKS=ON), run the peers (bench/peers/run_peers.sh),
@@ -9,13 +9,14 @@
 # The parts run one after another (the peers' driver itself runs two runners at a time, one
 # per core). Raw results go to bench/out/ (git-ignored). Budget: 15 minutes on 2 cores (the
 # measured time is printed at the end and recorded in docs/benchmarks.md). The ns figures are
-# only meaningful on an otherwise idle machine. --quick runs a reduced sweep (three steps, one
+# only meaningful on an otherwise idle machine; on a busy one, --cpu-time makes the report use
+# the thread-CPU times every runner also records. --quick runs a reduced sweep (three steps, one
 # repetition) to check the pipeline.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$(pwd)
 
-install=true build=true peers=true node=true quick=false
+install=true build=true peers=true node=true quick=false clock=wall
 for arg in "$@"; do
   case "$arg" in
     --no-install) install=false ;;
@@ -23,7 +24,8 @@ for arg in "$@"; do
     --no-peers) peers=false ;;
     --no-node) node=false ;;
     --quick) quick=true ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --cpu-time) clock=cpu ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "bench.sh: unknown argument '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -110,5 +112,5 @@ fi
 elapsed=$(( $(date +%s) - start ))
 echo "bench_duration: $((elapsed / 60)) min $((elapsed % 60)) s (scripts/bench.sh $*)" >> "$out/environment.txt"
 stamp "report"
-/usr/bin/python3 bench/report.py --out "$out"
+/usr/bin/python3 bench/report.py --out "$out" --clock "$clock"
 stamp "done: docs/benchmarks.md, docs/img/*.png (raw results in bench/out/)"
