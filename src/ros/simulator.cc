@@ -265,10 +265,13 @@ bool Simulator::onClearWrenches(std_srvs::Empty::Request&, std_srvs::Empty::Resp
 }
 
 bool Simulator::onStep(cga_rigid_sim::Step::Request& req, cga_rigid_sim::Step::Response& res) {
-  advance(req.steps);
-  // The caller wants to see where the steps led, tick or not (each at most once per stamp).
-  publishClock();
-  publishOutputs();
+  if (req.steps > 0) {
+    advance(req.steps);
+    // The caller wants to see where the steps led, tick or not (at most once per stamp).
+    // ~step 0 only reports the time: it publishes nothing, so polling it keeps bags on ticks.
+    publishClock();
+    publishOutputs();
+  }
   res.sim_time = toRosTime(world_->time());
   markDisturbed();
   return true;

@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""The node fails loudly on a bad start and stops promptly on Ctrl-C.
+
+Truths (the contract of the node's process):
+  - a scene that cannot be loaded, a missing URDF or a bad parameter ends the node with exit
+    status 1 and a FATAL message naming the problem (the loader's message);
+  - SIGINT (Ctrl-C) ends a running node within 1 s with status 0 — running in real time,
+    running as fast as possible, paused, and in the middle of a long ~step call.
+The test starts its own simulator processes (rosrun-style) against the rostest master.
+"""
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import roslib.packages
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from sim_test_util import wait_until  # noqa: E402
+import rosservice  # noqa: E402
+
+URDF = os.path.join(os.path.dirname(os.path.realpath(__file__)), 'bodies.urdf')
+SHUTDOWN_LIMIT = 1.0  # s
+
+
+def simulator_executable():
+    found = roslib.packages.find_node('cga_rigid_sim', 'simulator')
+    assert found, 'the simulator executable is not built'
+    return found[0]
+
+
+class LifecycleTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('lifecycle_test')
+        cls.exe = simulator_executable()
+        cls.count = 0
+
+    def start(self, *args):
+        LifecycleTest.count += 1
+        name = 'sim_%d' % LifecycleTest.count
+        proc = subprocess.Popen([self.exe, '__name:=' + name] + list(args),
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        return name, proc
+
+    def assertFailsToStart(self, expected_text, *args):
+        _, proc = self.start(*args)
+        out, _ = proc.communicate(timeout=20.0)
+        self.assertEqual(proc.returncode, 1, out)
+        self.assertIn('FATAL', out)
+        self.assertIn(expected_text, out)
+
+    def assertStopsOnSigint(self, name, proc, before_signal=None):
+        wait_until(lambda: rosservice.get_service_node('/%s/step' % name), what=name + ' up')
+        time.sleep(0.3)
+        if before_signal:
+            before_signal(name)
+        start = time.time()
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=10.0)
+        elapsed = time.time() - start
+        rospy.loginfo('%s stopped %.3f s after SIGINT', name, elapsed)
+        self.assertEqual(proc.returncode, 0, out)
+        self.assertLess(elapsed, SHUTDOWN_LIMIT)
+
+    def test_unloadable_scene_exits_1_with_the_loaders_message(self):
+        with tempfile.NamedTemporaryFile('w', suffix='.urdf', delete=False) as f:
+            f.write('<robot name="broken"><link name="a">')
+            path = f.name
+        self.assertFailsToStart(path, '_urdf_file:=' + path)
+        self.assertFailsToStart('/no/such/file.urdf', '_urdf_file:=/no/such/file.urdf')
+
+    def test_missing_urdf_exits_1(self):
+        self.assertFailsToStart('robot_description')
+
+    def test_bad_parameters_exit_1(self):
+        self.assertFailsToStart('~dt', '_urdf_file:=' + URDF, '_dt:=fast')
+        self.assertFailsToStart('dt', '_urdf_file:=' + URDF, '_dt:=-0.001')
+        self.assertFailsToStart('no_such_integrator', '_urdf_file:=' + URDF,
+                                '_integrator:=no_such_integrator')
+        self.assertFailsToStart('~real_time_factor', '_urdf_file:=' + URDF,
+                                '_real_time_factor:=-1.0')
+
+    def test_sigint_stops_a_real_time_node_within_1_s(self):
+        self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF))
+
+    def test_sigint_stops_an_as_fast_as_possible_node_within_1_s(self):
+        self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF, '_real_time_factor:=0.0'))
+
+    def test_sigint_stops_a_paused_node_within_1_s(self):
+        self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF, '_paused:=true'))
+
+    def test_sigint_stops_a_long_step_call_within_1_s(self):
+        def long_step(name):
+            # ~step 4e9 would take hours; call it without waiting for the answer.
+            subprocess.Popen(['rosservice', 'call', '/%s/step' % name, '4000000000'],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(1.0)
+        self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF, '_paused:=true'),
+                                 before_signal=long_step)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('cga_rigid_sim', 'lifecycle', LifecycleTest)
