@@ -4,7 +4,8 @@
 #   scripts/run.sh [args...]
 #
 # When launch/sim.launch exists: roslaunch cga_rigid_sim sim.launch args...
-#   (e.g. scripts/run.sh scene:=thin_rod)
+#   (e.g. scripts/run.sh scene:=thin_rod); without args: the default scene (tennis racket,
+#   spinning) with gravity:="[0, 0, 0]". Prints where to look (topics, tf, rviz).
 # Otherwise: the demo executable tumble_demo args...
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -35,6 +36,30 @@ set -u
 export ROS_PACKAGE_PATH="$root/build/ws/src${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}"
 
 if [[ -f launch/sim.launch ]]; then
+  # Without arguments: the default scene (the tennis racket, spinning about its intermediate
+  # axis) in free space, so it flips in place instead of falling out of view.
+  if [[ $# -eq 0 ]]; then
+    set -- gravity:="[0, 0, 0]"
+  fi
+  hints() {
+    cat <<EOF
+
+run.sh: the simulator runs (roslaunch cga_rigid_sim sim.launch $*). In another terminal:
+  source $devel/setup.bash
+  rostopic echo /simulator/momentum/bodies[1]             # the scene's total momentum, 100 Hz
+  rostopic echo /simulator/body_states                    # poses, twists, motor coefficients
+  rosrun tf2_tools view_frames.py                         # the tf tree -> frames.pdf
+  rosrun tf2_tools echo.py world racket_head              # a link; Noetic: tf2_ros tf2_echo
+  rosrun rviz rviz                                        # fixed frame 'world', add a TF display
+  rosservice call /simulator/pause                        # also: unpause, step 100, reset
+  roslaunch cga_rigid_sim record.launch bag:=run.bag      # record a bag
+Other scenes: bash scripts/run.sh scene:=thin_rod (symmetric_top, dumbbell, projectile,
+t_handle, many_bodies); every sim.launch argument works. README: "The simulator node".
+EOF
+  }
+  hints
+  # Again once the node's start-up output has scrolled by.
+  (sleep 5 && hints) &
   exec roslaunch cga_rigid_sim sim.launch "$@"
 fi
 exec "$devel/lib/cga_rigid_sim/tumble_demo" "$@"
