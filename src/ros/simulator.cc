@@ -212,8 +212,20 @@ void Simulator::publishRejectedCount() {
 void Simulator::refuse(const std::string& what, const std::string& why) {
   ++rejected_;
   publishRejectedCount();
-  ROS_WARN_THROTTLE(1.0, "simulator: refused %s: %s (%llu refused so far)", what.c_str(),
-                    why.c_str(), static_cast<unsigned long long>(rejected_));
+  // Throttled per topic/service on the wall clock: ROS_WARN_THROTTLE reads ros::Time, which
+  // under use_sim_time stands still while paused (and is 0 before the first /clock), so it
+  // would hide refusals exactly when a user is stepping by hand.
+  Throttle& t = refusal_log_[what];
+  const auto now = std::chrono::steady_clock::now();
+  if (t.shown && now - t.last < kRefusalLogPeriod) {
+    ++t.suppressed;
+    return;
+  }
+  const std::string more =
+      t.suppressed ? "; " + std::to_string(t.suppressed) + " more refused on it not shown" : "";
+  ROS_WARN("simulator: refused %s: %s (%llu refused in all%s)", what.c_str(), why.c_str(),
+           static_cast<unsigned long long>(rejected_), more.c_str());
+  t = Throttle{true, now, 0};
 }
 
 // ---- topics ----

@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -49,6 +50,8 @@ class Simulator {
   /// Longest single wait on the callback queue (paused, or between real-time steps): bounds
   /// the reaction to Ctrl-C.
   static constexpr std::chrono::milliseconds kMaxWait{50};
+  /// Refusal warnings per topic or service are throttled to one per this wall time.
+  static constexpr std::chrono::seconds kRefusalLogPeriod{1};
 
   Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
             std::unique_ptr<sim::World> world);
@@ -71,7 +74,8 @@ class Simulator {
   /// After a spawn at an already published stamp: the new bodies' frames only.
   void publishNewMovingFrames();
   void publishRejectedCount();
-  /// Counts and logs one refused input; `what` names the topic or service.
+  /// Counts and logs one refused input; `what` names the topic or service. The warning names
+  /// the message, the field and the rule; at most one per kRefusalLogPeriod per `what`.
   void refuse(const std::string& what, const std::string& why);
   /// Called by every service: the wall time it took must not count against real time.
   void markDisturbed() { disturbed_ = true; }
@@ -103,6 +107,12 @@ class Simulator {
   bool paused_ = false;
   bool disturbed_ = false;
   std::uint64_t rejected_ = 0;
+  struct Throttle {
+    bool shown = false;
+    std::chrono::steady_clock::time_point last{};
+    std::uint64_t suppressed = 0;
+  };
+  std::map<std::string, Throttle> refusal_log_;
   /// Step count of the last tf and of the last /clock sent (none yet: UINT64_MAX), the
   /// children sent in that tf, and the topology version of the last /tf_static.
   std::uint64_t last_tf_step_ = UINT64_MAX;
