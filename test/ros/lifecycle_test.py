@@ -5,7 +5,9 @@ Truths (the contract of the node's process):
   - a scene that cannot be loaded, a missing URDF or a bad parameter ends the node with exit
     status 1 and a FATAL message naming the problem (the loader's message);
   - SIGINT (Ctrl-C) ends a running node within 1 s with status 0 — running in real time,
-    running as fast as possible, paused, and in the middle of a long ~step call.
+    running as fast as possible, paused, and in the middle of a long ~step call;
+  - running as fast as possible, the node still answers services promptly;
+  - asked for a real-time factor it cannot reach, it warns once, with the factor it achieves.
 The test starts its own simulator processes (rosrun-style) against the rostest master.
 """
 import os
@@ -19,6 +21,7 @@ import unittest
 import roslib.packages
 import rospy
 import rostest
+from cga_rigid_sim.srv import Step
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from sim_test_util import wait_until  # noqa: E402
@@ -91,6 +94,33 @@ class LifecycleTest(unittest.TestCase):
 
     def test_sigint_stops_an_as_fast_as_possible_node_within_1_s(self):
         self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF, '_real_time_factor:=0.0'))
+
+    def test_as_fast_as_possible_still_answers_services(self):
+        name, proc = self.start('_urdf_file:=' + URDF, '_real_time_factor:=0.0')
+        wait_until(lambda: rosservice.get_service_node('/%s/step' % name), what=name + ' up')
+        step = rospy.ServiceProxy('/%s/step' % name, Step)
+        step.wait_for_service(timeout=10.0)
+        times = []
+        for _ in range(10):
+            start = time.time()
+            t = step(0).sim_time
+            times.append(time.time() - start)
+        rospy.loginfo('factor 0: sim time %.1f s; ~step 0 answered in %.1f ms at worst',
+                      t.to_sec(), 1e3 * max(times))
+        self.assertGreater(t.to_sec(), 0.0)
+        self.assertLess(max(times), 0.5)
+        self.assertStopsOnSigint(name, proc)
+
+    def test_unreachable_real_time_factor_warns_once(self):
+        # The test scene rests (no gravity): steps are nearly free, but not 10^7 s per s.
+        name, proc = self.start('_urdf_file:=' + URDF, '_real_time_factor:=10000000.0')
+        wait_until(lambda: rosservice.get_service_node('/%s/step' % name), what=name + ' up')
+        time.sleep(5.0)  # two windows of 2 s
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=10.0)
+        warnings = [line for line in out.splitlines() if 'cannot keep real_time_factor' in line]
+        self.assertEqual(len(warnings), 1, out)
+        self.assertIn('achieved', warnings[0])
 
     def test_sigint_stops_a_paused_node_within_1_s(self):
         self.assertStopsOnSigint(*self.start('_urdf_file:=' + URDF, '_paused:=true'))
