@@ -11,6 +11,7 @@
 #include "cga_rigid_sim/dynamics/impulse.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "cga_rigid_sim/sim/input_queue.h"
 
@@ -125,7 +126,8 @@ struct World::Impl {
   std::vector<dynamics::Loads> loads;
   std::vector<std::uint8_t> loads_dirty;  // its set of active wrenches changed this step
   std::vector<int> dirty_list;            // the bodies flagged in loads_dirty
-  std::vector<std::uint8_t> at_rest;      // skipped in the last step
+  enum LastPath : std::uint8_t { kNotStepped, kStepped, kAtRest };
+  std::vector<std::uint8_t> last_path;  // what the last step did with the body (summary)
 
   // Lookups for inputs (never used in step()). Values are scene indices.
   std::vector<int> moving_of_scene;                       // scene index → moving index or −1
@@ -150,7 +152,7 @@ struct World::Impl {
     l.setGravity(scene.gravity_W);
     loads.push_back(std::move(l));
     loads_dirty.push_back(0);
-    at_rest.push_back(0);
+    last_path.push_back(kNotStepped);
     dirty_list.reserve(state.size());
     return true;
   }
@@ -388,7 +390,7 @@ void World::step() {
     dynamics::BodyState& s = w.state[i];
     const dynamics::Loads& l = w.loads[i];
     const bool rest = l.empty() && isZero(s.omega_B);
-    w.at_rest[i] = rest;
+    w.last_path[i] = rest ? Impl::kAtRest : Impl::kStepped;
     if (rest) continue;
     w.integrator[i]->step(w.inertia[i], l, lambda, h, s);
   }
@@ -517,7 +519,7 @@ void World::reset() {
   for (std::size_t i = 0; i < w.state.size(); ++i) {
     w.state[i] = w.initial[i];
     w.integrator[i]->reset();
-    w.at_rest[i] = 0;
+    w.last_path[i] = Impl::kNotStepped;
   }
 }
 
@@ -636,7 +638,7 @@ Result<bool> World::deleteBody(const std::string& body) {
     w.integrator.erase(w.integrator.begin() + i);
     w.loads.erase(w.loads.begin() + i);
     w.loads_dirty.erase(w.loads_dirty.begin() + i);
-    w.at_rest.erase(w.at_rest.begin() + i);
+    w.last_path.erase(w.last_path.begin() + i);
   }
   // Names out, scene indices after j shift down by one.
   const scene::BodyModel& b = w.scene.bodies[j];
@@ -724,7 +726,23 @@ std::vector<FramePose> World::staticFrames() const {
 }
 
 std::string World::summary() const {
+  constexpr std::size_t kMaxListed = 20;  // one screen, as the scene summary
   const Impl& w = *impl_;
+  // The path of each body: the one its integrator took in the last step, "at-rest" if it was
+  // skipped, or before its first step the planned one (scene.h).
+  auto pathOf = [&](std::size_t j) -> std::string {
+    const scene::BodyModel& b = w.scene.bodies[j];
+    const int i = w.moving_of_scene[j];
+    if (i < 0) return "static";
+    switch (w.last_path[i]) {
+      case Impl::kAtRest:
+        return "at-rest";
+      case Impl::kStepped:
+        return w.integrator[i]->path();
+      default:
+        return scene::plannedIntegratorPath(w.scene, b, w.config.integrator);
+    }
+  };
   std::ostringstream os;
   os.precision(6);
   const auto& g = w.scene.gravity_W;
@@ -732,23 +750,29 @@ std::string World::summary() const {
      << " static bodies; dt " << w.config.dt << " s, integrator '" << w.config.integrator
      << "', lambda " << w.lambda << " m, gravity (" << g.x() << ", " << g.y() << ", " << g.z()
      << ") m/s^2; step " << w.step_count << ", t " << w.time() << " s\n";
+  std::map<std::string, std::size_t> count;  // ordered: deterministic output
   for (std::size_t j = 0; j < w.scene.bodies.size(); ++j) {
+    const std::string path = pathOf(j);
+    ++count[path];
+    if (j >= kMaxListed) continue;
     const scene::BodyModel& b = w.scene.bodies[j];
     const int i = w.moving_of_scene[j];
     os << "  " << b.name << ": ";
-    if (i < 0) {
-      os << "static";
-    } else {
+    if (i >= 0) {
       const dynamics::Inertia& I = w.inertia[i];
       const Eigen::Vector3d& J = I.principalMoments();
       os << dynamics::toString(I.inertiaClass()) << ", mass " << I.mass() << " kg, J (" << J.x()
-         << ", " << J.y() << ", " << J.z() << ") kg m^2, path "
-         << (w.at_rest[i] ? "at-rest" : w.integrator[i]->path());
+         << ", " << J.y() << ", " << J.z() << ") kg m^2, ";
     }
-    os << ", links";
+    os << "path " << path << ", links";
     for (const auto& l : b.links) os << " " << l.link;
     os << "\n";
   }
+  if (w.scene.bodies.size() > kMaxListed)
+    os << "  ... and " << w.scene.bodies.size() - kMaxListed << " more\n";
+  os << "paths:";
+  for (const auto& kv : count) os << " " << kv.first << " x" << kv.second;
+  os << "\n";
   return os.str();
 }
 
