@@ -88,8 +88,8 @@ struct FreeFlow {
 // a rounded ratio only perturbs the determinant of the turn by O(ε φ²).
 // Rotor composition with d = ρ − 1 and ε = (−versin(φ/2), sin(φ/2) e_i):
 //   ρ(1 + ε) − 1 = d + ε + d ε,  and d e_i has only four nonzero products (the sparse product).
-// Only φ → (sin φ, versin φ) → L is on the critical path; the half angle's functions and the
-// rotor run beside it.
+// Only w → φ → (sin φ, versin φ) → w is on the critical path; the half angle's functions and
+// the rotor run beside it.
 template <int I>
 CGA_ALWAYS_INLINE void rotatePiece(double tau, const double* ratio, FreeFlow& f) {
   constexpr int J = (I + 1) % 3, K = (I + 2) % 3;
@@ -238,13 +238,16 @@ void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, do
     case 3:
       return compose<3>(inertia, loads, lambda, h, gamma, cache, state);
     default:
-      // Other compositions: stage by stage (correct for any stage count, without the merges).
+      // Other stage counts: stage by stage, each a full Strang step (the same method, without the
+      // merges of kicks, drifts and rotors).
       for (int i = 0; i < stages; ++i)
         compose<1>(inertia, loads, lambda, gamma[i] * h, &kOne, cache, state);
   }
 }
 
 }  // namespace splitting
+
+#undef CGA_ALWAYS_INLINE
 
 void Cga2Integrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
                           BodyState& state) {

@@ -44,8 +44,8 @@ struct Cache {
 /// One step h of the symmetric composition S(γ_1 h) ∘ … ∘ S(γ_s h) of the Strang step S above
 /// (γ_1 is applied first). Adjacent kicks are merged; when the body has no loads, all the free
 /// flows merge into one drift by h v_B and one rotor (adjacent R1 pieces merge), so a composition
-/// of s stages costs 4s + 1 axis rotations. cga2 is s = 1, γ = {1}; cga4 composes three or five
-/// stages. Requires Σγ = 1 for the drift merge.
+/// of s stages costs 4s + 1 axis rotations. cga2 is s = 1, γ = {1}; cga4 composes three stages
+/// (s = 1 and 3 are merged; other s run stage by stage). Requires Σγ = 1 for the drift merge.
 void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, double h,
                    const double* gamma, int stages, Cache& cache, BodyState& state);
 
