@@ -2,7 +2,8 @@
 """~pause, ~unpause, ~step and ~reset do what they say, and /clock carries simulation time.
 
 Truths:
-  - ~step N while paused advances the simulation time by exactly N dt (integer nanoseconds);
+  - ~step N while paused advances the simulation time by exactly N dt (integer nanoseconds),
+    and tf sees each stamp once (tf2 warns TF_REPEATED_DATA otherwise);
   - paused, simulation time stands still (however long the wall clock runs);
   - unpaused at real_time_factor 1, simulation time follows wall time (±15 % over 1.5 s, for
     a loaded CI machine) and ~pause stops it;
@@ -17,6 +18,7 @@ import unittest
 
 import rospy
 import rostest
+from tf2_msgs.msg import TFMessage
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from sim_test_util import Simulator, state_fields, wait_until  # noqa: E402
@@ -42,6 +44,23 @@ class TimeControlTest(unittest.TestCase):
             t1 = self.sim.step(n)
             self.assertEqual((t1 - t0).to_nsec(), n * NS_PER_STEP)
             t0 = t1
+
+    def test_step_publishes_tf_once_per_stamp(self):
+        # Steps that end on a tick (the tick is published during the steps) and steps that do
+        # not (the final state is published once more): every stamp reaches tf exactly once.
+        stamps = []
+        sub = rospy.Subscriber('/tf', TFMessage, lambda m: stamps.extend(
+            t.header.stamp for t in m.transforms if t.child_frame_id == 'box'))
+        wait_until(lambda: sub.get_num_connections() > 0, what='/tf connected')
+        to_tick = -(self.sim.time().to_nsec() // NS_PER_STEP) % 10
+        if to_tick:
+            self.sim.step(to_tick)  # so the steps below start on a tick (every 10 steps)
+        ends = [self.sim.step(n) for n in [10, 0, 5, 5, 1, 9, 0, 20]]
+        wait_until(lambda: ends[-1] in stamps, what='the last tf')
+        sub.unregister()
+        self.assertEqual(len(stamps), len(set(stamps)), 'a tf stamp repeated')
+        for t in ends:
+            self.assertIn(t, stamps)
 
     def test_paused_time_stands_still(self):
         t0, s0 = self.sim.time(), state_fields(self.sim.get('box'))
