@@ -2,18 +2,19 @@
 """Node throughput: steps per second of the ROS node `simulator` on many free bodies.
 
     /usr/bin/python3 bench/node_throughput.py [--ns 1,100,1000,10000] [--rtfs 0,1]
-        [--window 8] [--warmup 2] [--node PATH] [--out bench/out]
+        [--extra 10000:cga2] [--window 8] [--warmup 2] [--node PATH] [--out bench/out]
 
 For every N and every ~real_time_factor (0 = as fast as possible, 1 = real time) the script
 starts the node on the scene of `scripts/generate_many_bodies.py N` (with its --initial-state
 spins; if the script is missing, an equivalent scene is generated here) with dt = 1 ms,
-integrator auto, tf, ~momentum and /clock published at 100 Hz of simulated time, and a
-subscriber attached to /tf and ~momentum (raw messages, so the Python side costs little; the
-node still serialises and sends every message; the subscriber drops what it cannot keep up with,
-so the received rates can be lower than the published ones). After the first /clock message and a warm-up,
-it watches /clock for a window of wall time: the simulated time gained over the wall time
-between the first and last /clock message received in the window is the achieved real-time
-factor; divided by dt, the steps per second. Results go to bench/out/node_throughput.csv.
+integrator auto (plus the --extra runs, by default N = 10000 with cga2), tf, ~momentum and
+/clock published at 100 Hz of simulated time, and a subscriber attached to /tf and ~momentum
+(raw messages, so the Python side costs little; the node still serialises and sends every
+message; the subscriber drops what it cannot keep up with, so the received rates can be lower
+than the published ones). After the first /clock message and a warm-up, it watches /clock for a
+window of wall time: the simulated time gained over the wall time between the first and last
+/clock message received in the window is the achieved real-time factor; divided by dt, the
+steps per second. Results go to bench/out/node_throughput.csv.
 
 Everything runs against a private roscore on a free port (ROS_HOME in a temporary directory), so
 other ROS work on the machine is not disturbed. Every process started here (roscore and its
@@ -193,7 +194,7 @@ class Monitor:
             self.last_clock = None
 
 
-def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env):
+def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env, integrator):
     import yaml  # python3-yaml, a rospy dependency
 
     name = "simulator"
@@ -202,15 +203,15 @@ def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env)
     with open(state_yaml) as f:
         initial = (yaml.safe_load(f) or {}).get("initial_state")
     params = {"urdf_file": urdf, "real_time_factor": float(rtf), "dt": args.dt,
-              "integrator": args.integrator, "publish_rate": args.publish_rate,
+              "integrator": integrator, "publish_rate": args.publish_rate,
               "publish_clock": True, "clock_rate": args.publish_rate}
     if initial:
         params["initial_state"] = initial
     rospy.set_param("/" + name, params)
     monitor.reset()
     row = {"n_bodies": n, "real_time_factor": rtf, "publish_rate_hz": args.publish_rate,
-           "integrator": args.integrator, "dt": args.dt}
-    log_path = os.path.join(tmp, "node_%d_%s.log" % (n, rtf))
+           "integrator": integrator, "dt": args.dt}
+    log_path = os.path.join(tmp, "node_%d_%s_%s.log" % (n, rtf, integrator))
     proc = start([node_proc, "__name:=" + name], log_path, env)
     try:
         # Up: the first /clock after t = 0 (loading 10 000 bodies takes a while).
@@ -266,11 +267,18 @@ def main():
     ap.add_argument("--publish-rate", type=float, default=100.0)
     ap.add_argument("--dt", type=float, default=0.001)
     ap.add_argument("--integrator", default="auto")
+    ap.add_argument("--extra", default="10000:cga2",
+                    help="more runs N:integrator[,N:integrator] (both real-time factors); "
+                         "'' for none")
     ap.add_argument("--node", default=DEFAULT_NODE)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
     args = ap.parse_args()
     ns = [int(x) for x in args.ns.split(",") if x]
     rtfs = [x for x in args.rtfs.split(",") if x]
+    runs = [(n, args.integrator) for n in ns]  # (N, integrator), in order
+    for item in [x for x in args.extra.split(",") if x]:
+        n, integrator = item.split(":")
+        runs.append((int(n), integrator))
     csv_path = os.path.join(args.out, "node_throughput.csv")
 
     if not (os.path.isfile(args.node) and os.access(args.node, os.X_OK)):
@@ -327,21 +335,27 @@ def main():
         from rospy.msg import AnyMsg
         rospy.init_node("bench_node_throughput", anonymous=True, disable_signals=True)
         monitor = Monitor(rospy, Clock, AnyMsg, "simulator")
-        for n in ns:
-            urdf, state = make_scene(n, tmp)
+        scenes = {}
+        for n, integrator in runs:
+            if n not in scenes:
+                scenes[n] = make_scene(n, tmp)
+            urdf, state = scenes[n]
             for rtf in rtfs:
                 t0 = time.monotonic()
-                row = measure(rospy, monitor, args.node, args, n, rtf, urdf, state, tmp, env)
+                row = measure(rospy, monitor, args.node, args, n, rtf, urdf, state, tmp, env,
+                              integrator)
                 rows.append(row)
                 write_csv(csv_path, rows)
                 if row.get("status") == "ok":
-                    print("[node] N=%-6d rtf=%-3s %10.0f steps/s  achieved RTF %8.3f  "
+                    print("[node] %-5s N=%-6d rtf=%-3s %10.0f steps/s  achieved RTF %8.3f  "
                           "received: tf %5s/s, momentum %5s/s  (%.0f s)" % (
-                              n, rtf, float(row["steps_per_s"]), float(row["achieved_rtf"]),
+                              integrator, n, rtf, float(row["steps_per_s"]),
+                              float(row["achieved_rtf"]),
                               row["tf_received_per_s"], row["momentum_received_per_s"],
                               time.monotonic() - t0), file=sys.stderr)
                 else:
-                    print("[node] N=%d rtf=%s: %s" % (n, rtf, row["status"]), file=sys.stderr)
+                    print("[node] %s N=%d rtf=%s: %s" % (integrator, n, rtf, row["status"]),
+                          file=sys.stderr)
     finally:
         try:
             import rospy as _r
