@@ -136,9 +136,9 @@ TEST(WorldWrench, BodyFrameWrenchTurnsWithTheBodyWorldFrameDoesNot) {
 
 // Truth: a wrench given in a link frame L is carried into B with the link's placement M_BL:
 // f_B = R_BL f_L, x_B = M_BL x_L, τ_B = R_BL τ_L. Link "nozzle" is turned 90° about z and set
-// 0.5 m along x in B, so the link point (0, 0.5, 0) is the CoM. (a) A force there makes no
-// torque: the body does not turn, Δp = R_WB R_BL f_L dt exactly and L stays 0 (a wrong point
-// would make a torque of |x_B × f| ~ 1 N m). (b) A couple along the link's z (= B's z) on a
+// at (0.5, 0.3, 0) in B, so the link point (−0.3, 0.5, 0) is the CoM. (a) A force there makes
+// no torque: the body does not turn, Δp = R_WB R_BL f_L dt exactly and L stays 0 (the point
+// taken unconverted would make a torque of 1.2 N m). (b) A couple along the link's z (= B's z) on a
 // spherical body spins it about that fixed axis: ΔL = R_WB R_BL τ_L dt exactly. Tolerance: a
 // few ε of the results.
 TEST(WorldWrench, LinkFrameWrenchUsesTheLinkPlacement) {
@@ -146,7 +146,7 @@ TEST(WorldWrench, LinkFrameWrenchUsesTheLinkPlacement) {
   const Eigen::Quaterniond R_BL(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   auto make = [&] {
     scene::BodyModel b = movingBody("box", 2.0, {0.5, 0.5, 0.5}, R_WB, {1, 2, 3});
-    b.links.push_back({"nozzle", cga::Motor::fromPose(R_BL, {0.5, 0, 0}, 1.0)});
+    b.links.push_back({"nozzle", cga::Motor::fromPose(R_BL, {0.5, 0.3, 0}, 1.0)});
     return makeWorld(makeScene({b}));
   };
   auto wf = make(), wc = make();
@@ -155,7 +155,7 @@ TEST(WorldWrench, LinkFrameWrenchUsesTheLinkPlacement) {
   in.body = "nozzle";  // any link names the body
   in.frame = "nozzle";
   in.F = cga::Force(Eigen::Vector3d(4.0, 0, 0));
-  in.point = Eigen::Vector3d(0, 0.5, 0);
+  in.point = Eigen::Vector3d(-0.3, 0.5, 0);
   ASSERT_TRUE(wf->applyWrench(in).ok());
   wf->step();
   const auto mf = momentumOf(*wf, "box");

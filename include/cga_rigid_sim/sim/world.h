@@ -65,8 +65,8 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-/// Stamps and durations farther than this many steps are refused (at dt = 1 ms, 31 000 years):
-/// beyond it step numbers stop being exact in a double.
+/// Stamps and durations farther than this many steps are refused (at dt = 1 ms, 31 000 years);
+/// it keeps step numbers well inside the integers a double holds exactly (2^53 ≈ 9e15).
 constexpr double kMaxSteps = 1e15;
 /// Points of application farther than this from their frame's origin are refused, m: their
 /// moments would be round-off.
