@@ -12,6 +12,9 @@ using testing::momentumOf;
 using testing::movingBody;
 using testing::staticBody;
 
+// (Eigen's {} leaves a vector uninitialised: spell zero out.)
+const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
+
 // A crate: base link with its CoM off the link origin, and a lid merged by a fixed joint.
 const char* const kCrateUrdf = R"(<?xml version="1.0"?>
 <robot name="crate">
@@ -120,7 +123,8 @@ TEST(WorldSpawn, SpawnedBodyIsPlacedRenamedAndStepped) {
 // URDF, and a bad placement.
 TEST(WorldSpawn, SpawnRefusesClashesAndBadInput) {
   auto w = makeWorld(base());
-  ASSERT_TRUE(w->spawnUrdf("crate1", kCrateUrdf, somePose(), {}, {}).ok());
+  auto spawned = w->spawnUrdf("crate1", kCrateUrdf, somePose(), kZero, kZero);
+  ASSERT_TRUE(spawned.ok()) << spawned.error();
   const auto version = w->topologyVersion();
   const std::size_t bodies = w->scene().bodies.size();
   struct Case {
@@ -145,13 +149,14 @@ TEST(WorldSpawn, SpawnRefusesClashesAndBadInput) {
       {"crate3", kCrateUrdf, "spawn_urdf.pose.rotation: not a proper rotation", reflected},
   };
   for (const Case& c : cases) {
-    auto r = w->spawnUrdf(c.name, c.urdf, c.pose, {}, {});
+    auto r = w->spawnUrdf(c.name, c.urdf, c.pose, kZero, kZero);
     ASSERT_FALSE(r.ok()) << c.expected;
     EXPECT_NE(r.error().find(c.expected), std::string::npos) << r.error();
     EXPECT_EQ(w->topologyVersion(), version);
     EXPECT_EQ(w->scene().bodies.size(), bodies);
   }
-  auto v = w->spawnUrdf("crate4", kCrateUrdf, somePose(), Eigen::Vector3d(0, std::nan(""), 0), {});
+  auto v =
+      w->spawnUrdf("crate4", kCrateUrdf, somePose(), Eigen::Vector3d(0, std::nan(""), 0), kZero);
   ASSERT_FALSE(v.ok());
   EXPECT_EQ(v.error(), "spawn_urdf.linear_velocity.y: not finite (nan)");
 }
@@ -202,10 +207,12 @@ TEST(WorldSpawn, DeleteRemovesTheBodyAndKeepsTheOthersInputs) {
   ASSERT_TRUE(w->deleteBody("floor").ok());
   for (const auto& f : w->staticFrames()) EXPECT_NE(f.child, "floor");
   // The freed name can be used again.
-  EXPECT_TRUE(w->spawnUrdf("b", kCrateUrdf, somePose(), {}, {}).ok());
+  auto spawned = w->spawnUrdf("b", kCrateUrdf, somePose(), kZero, kZero);
+  ASSERT_TRUE(spawned.ok()) << spawned.error();
   EXPECT_TRUE(w->getBodyState("b").ok());
   ASSERT_TRUE(w->deleteBody("b").ok());
-  EXPECT_TRUE(w->spawnUrdf("b", kCrateUrdf, somePose(), {}, {}).ok());  // crate_lid freed too
+  spawned = w->spawnUrdf("b", kCrateUrdf, somePose(), kZero, kZero);  // crate_lid freed too
+  EXPECT_TRUE(spawned.ok()) << spawned.error();
 }
 
 }  // namespace
