@@ -3,7 +3,8 @@
 
 Truth: the schedule. At dt = 1 ms and publish_rate 100 Hz the node publishes tf, momentum and
 body states at every multiple of 10 ms of simulation time and /clock at every step, each stamp
-exactly once. The run is real time (real_time_factor 1, 5 s of wall time): that is how users
+exactly once. Every tick must be in the bag; /clock (1 kHz) must be in order and complete to
+99 % (rosbag's own subscriber queue, 100 messages, may drop a few on a loaded machine). The run is real time (real_time_factor 1, 5 s of wall time): that is how users
 record, and a real-time run is also the one where a dropped message would show (as fast as
 possible, rosbag's subscriber queues would overflow by design). The bag is read back with the
 rosbag Python API (python3-rosbag).
@@ -38,6 +39,17 @@ class RosbagTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('rosbag_test')
         cls.sim = Simulator()
+
+    def assertStampsExactly(self, got, expected, what):
+        # Sets, not lists: a failing assertEqual on thousands of stamps would spend minutes
+        # computing its diff.
+        self.assertEqual(len(got), len(set(got)), what + ': a stamp repeated')
+        missing = sorted(set(expected) - set(got))
+        extra = sorted(set(got) - set(expected))
+        self.assertFalse(missing, '%s: %d ticks missing, first %s' % (
+            what, len(missing), [str(t) for t in missing[:5]]))
+        self.assertFalse(extra, '%s: %d stamps off the ticks, first %s' % (
+            what, len(extra), [str(t) for t in extra[:5]]))
 
     def recorder_subscribed(self, node_prefix='/record'):
         _, subscribers, _ = rosgraph.Master('/rosbag_test').getSystemState()
@@ -84,13 +96,19 @@ class RosbagTest(unittest.TestCase):
         rospy.loginfo('bag: %d steps %s..%s, %d ticks; recorded %s', len(every_step),
                       every_step[0], every_step[-1], len(ticks),
                       {k: len(v) for k, v in stamps.items()})
-        self.assertEqual(sorted(stamps['/clock']), every_step, '/clock: one per step')
+        # tf, momentum and body states: every tick exactly once. rosbag's subscriber queues
+        # hold 100 messages, a full second of ticks, so none may be lost.
         for topic in ['/tf', NODE + '/momentum', NODE + '/body_states']:
-            got = stamps[topic]
-            self.assertEqual(len(got), len(set(got)), topic + ': a stamp repeated')
-            missing = sorted(set(ticks) - set(got))
-            self.assertEqual(missing, [], topic + ': ticks missing')
-            self.assertEqual(sorted(got), ticks, topic + ': only the ticks')
+            self.assertStampsExactly(stamps[topic], ticks, topic)
+        # /clock: one per step, in order. At 1 kHz the same 100-message queue holds only 0.1 s,
+        # so on a loaded machine rosbag itself may drop a few; what the node sent is checked by
+        # time_control.test. Here: every recorded /clock is a step of the run, in order, once,
+        # and at least 99 % of the steps are there.
+        clock = stamps['/clock']
+        self.assertTrue(all(a < b for a, b in zip(clock, clock[1:])),
+                        '/clock out of order or repeated')
+        self.assertEqual(set(clock) - set(every_step), set(), '/clock off the step grid')
+        self.assertGreaterEqual(len(clock), 0.99 * len(every_step), '/clock: too many missing')
         # The latched static frames are in the bag (recorded when the recorder subscribed).
         self.assertEqual(len(static), 1)
         self.assertEqual(sorted(t.child_frame_id for t in static[0].transforms),

@@ -57,12 +57,17 @@ class Simulator(object):
         self.momenta = {}       # stamp (rospy.Time) -> MomentumArray
         self.body_states = {}   # stamp -> BodyStateArray
         self.rejected = None    # last ~rejected_inputs count
-        rospy.Subscriber(node + '/momentum', MomentumArray, self._on_momentum, queue_size=None)
-        rospy.Subscriber(node + '/body_states', BodyStateArray, self._on_body_states,
-                         queue_size=None)
-        rospy.Subscriber(node + '/rejected_inputs', UInt64, self._on_rejected, queue_size=10)
-        for pub in [self.wrench_pub, self.impulse_pub, self.plain_wrench_pub]:
-            wait_until(lambda: pub.get_num_connections() > 0, what=pub.name + ' connected')
+        subscribers = [
+            rospy.Subscriber(node + '/momentum', MomentumArray, self._on_momentum,
+                             queue_size=None),
+            rospy.Subscriber(node + '/body_states', BodyStateArray, self._on_body_states,
+                             queue_size=None),
+            rospy.Subscriber(node + '/rejected_inputs', UInt64, self._on_rejected,
+                             queue_size=10)]
+        # Connected both ways before any test sends or steps (the node builds an output only
+        # when someone listens).
+        for topic in [self.wrench_pub, self.impulse_pub, self.plain_wrench_pub] + subscribers:
+            wait_until(lambda: topic.get_num_connections() > 0, what=topic.name + ' connected')
         wait_until(lambda: self.rejected is not None, what='latched ~rejected_inputs')
 
     # ---- services ----
