@@ -112,13 +112,16 @@ int Simulator::run() {
       bool interrupted = false;
       for (Clock::time_point now = Clock::now(); now < deadline; now = Clock::now()) {
         queue.callAvailable(toWall(std::min<Clock::duration>(deadline - now, kMaxWait)));
+        last_service = Clock::now();
         if (paused_ || disturbed_ || !::ros::ok()) {
           interrupted = true;
           break;
         }
       }
       if (interrupted) continue;
-    } else if (Clock::now() - last_service >= kServiceInterval) {
+    }
+    // As fast as possible, or behind the deadlines: still service callbacks regularly.
+    if (Clock::now() - last_service >= kServiceInterval) {
       queue.callAvailable(::ros::WallDuration(0));
       last_service = Clock::now();
       if (paused_ || disturbed_) continue;
