@@ -115,6 +115,7 @@ void usage(const std::string& engine) {
       "  --hs 1e-3,1e-2      step sizes (engine default; usually 1e-4 ... 1e-1, 10 values)\n"
       "  --timing-steps N    steps per timing run, capped at T/h (engine default; usually 20000)\n"
       "  --reps R            timing repetitions, median reported (default 3)\n"
+      "  --min-h H           skip step sizes below H (engine default: 0; Simbody 1e-3)\n"
       "  --list              list configs and exit\n"
       "  --prepare           only compute/cache the reference solutions, then exit\n"
       "  --version           print engine version and exit\n",
@@ -155,6 +156,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
   std::vector<double> hs = defaults.hs.empty() ? defaultStepSizes() : defaults.hs;
   long timing_steps = defaults.timing_steps;
   int reps = defaults.reps;
+  double min_h = defaults.min_h;
   bool all_configs = false, prepare_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -176,6 +178,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
       for (const std::string& t : splitList(next())) hs.push_back(std::strtod(t.c_str(), nullptr));
     } else if (a == "--timing-steps") timing_steps = std::atol(next().c_str());
     else if (a == "--reps") reps = std::atoi(next().c_str());
+    else if (a == "--min-h") min_h = std::strtod(next().c_str(), nullptr);
     else if (a == "--list") {
       for (const PeerConfig& c : configs)
         std::printf("%s%s\n", c.name.c_str(), c.in_default_sweep ? "" : "  (not in default sweep)");
@@ -189,6 +192,15 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
     }
   }
   if (csv_path.empty()) csv_path = out_dir + "/peers_" + engine + ".csv";
+  {
+    std::vector<double> kept;
+    for (double h : hs) {
+      if (h >= min_h * (1 - 1e-12)) kept.push_back(h);
+      else std::fprintf(stderr, "[%s] h=%g skipped: below this runner's budget floor %g (--min-h 0 runs it)\n",
+                        engine.c_str(), h, min_h);
+    }
+    hs = kept;
+  }
   if (reps < 1) reps = 1;
   if (timing_steps < 1) timing_steps = 1;
 
@@ -200,12 +212,11 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
   }
   if (prepare_only) return 0;  // reference cache is filled
   CsvWriter csv(csv_path);
-  // Side file: the same timing runs measured in thread CPU time (robust to
-  // other load on the machine; the main CSV has wall time as specified).
-  std::string cpu_path = csv_path;
-  if (cpu_path.size() > 4 && cpu_path.compare(cpu_path.size() - 4, 4, ".csv") == 0)
-    cpu_path.resize(cpu_path.size() - 4);
-  cpu_path += "_cputime.csv";
+  // Side file cputime_<engine>.csv (kept out of the peers_*.csv namespace,
+  // which holds only work-precision files): the same timing runs measured in
+  // thread CPU time, robust to other load on the machine; the main CSV has
+  // wall time as specified.
+  const std::string cpu_path = out_dir + "/cputime_" + engine + ".csv";
   FILE* cpu_csv = std::fopen(cpu_path.c_str(), "w");
   if (cpu_csv) std::fprintf(cpu_csv, "engine,config,case,h,wall_ns_per_step,cpu_ns_per_step\n");
   using Clock = std::chrono::steady_clock;

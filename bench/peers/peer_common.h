@@ -11,7 +11,7 @@
 //     re-applying the torque) is included. So for h >= 5e-3 the timed run is
 //     the whole 100 s run; for smaller h it is the first 20000 steps.
 //   * the same timing runs are also measured in thread CPU time and written
-//     to peers_<engine>_cputime.csv (wall and CPU ns/step side by side): on
+//     to cputime_<engine>.csv (wall and CPU ns/step side by side): on
 //     a shared, loaded machine the wall time overstates the cost, the CPU
 //     time much less so;
 //   * every run (timing or error) is executed in a forked child process, so
@@ -64,6 +64,10 @@ struct SweepDefaults {
   std::vector<double> hs;   // empty: defaultStepSizes()
   long timing_steps = 20000;
   int reps = 3;
+  // Budget floor: step sizes below it are skipped (with a note in the log)
+  // even when requested with --hs, unless --min-h overrides it. Keeps a slow
+  // engine inside the suite's time budget when a caller passes the full grid.
+  double min_h = 0;
 };
 
 // Fixed CSV layout of bench/out/peers_<engine>.csv.

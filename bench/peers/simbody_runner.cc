@@ -18,17 +18,18 @@
 // fixed-step mode and is not measured.
 //
 // Time budget (the whole peer sweep must fit in ~6 min on 2 cores): Simbody
-// costs ~15-70 us of CPU per step here (ExplicitEuler ~17, SemiExplicitEuler
-// ~22, Verlet ~32, RungeKutta3 ~43, RungeKuttaMerson ~66), i.e. 10-60x the
-// other engines; h = 1e-4 alone would take 1e6 steps x 5 cases = 90-330 s per
-// integrator. So, unlike the other runners, the default Simbody sweep
+// costs ~14-80 us of CPU per step here (medians: SemiExplicitEuler 14,
+// ExplicitEuler ~17, Verlet 23, RungeKutta3 37, RungeKuttaMerson 59), i.e.
+// 10-60x the other engines; h = 1e-4 alone would take 1e6 steps x 5 cases =
+// 70-300 s per integrator. The default sweep below costs ~2.7 min of CPU. So, unlike the other runners, the default Simbody sweep
 //   * uses h in {1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 1e-1} (7 sizes, 2 decades),
 //   * times min(T/h, 2000) steps (median of 3 fresh runs; errors still from a
 //     separate full run to T = 100 s, see peer_common.h),
 //   * runs SemiExplicitEuler, Verlet, RungeKutta3 and RungeKuttaMerson; the
 //     other four integrators (ExplicitEuler, SemiExplicitEuler2, RungeKutta2,
-//     RungeKuttaFeldberg) run with --all-configs (or --configs), and any h
-//     with --hs.
+//     RungeKuttaFeldberg) run with --all-configs (or --configs);
+//   * skips h < 1e-3 even if a caller passes them with --hs (budget floor,
+//     noted in the log); --min-h 0 lifts it.
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -140,6 +141,7 @@ int main(int argc, char** argv) {
   bench::peers::SweepDefaults defaults;
   defaults.hs = {1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 1e-1};
   defaults.timing_steps = 2000;
+  defaults.min_h = 1e-3;
   int major = 0, minor = 0, build = 0;
   SimTK_version_SimTKcommon(&major, &minor, &build);
   const std::string version =
