@@ -23,7 +23,7 @@ import rostest
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from sim_test_util import (Simulator, add, make_impulse, make_plain_wrench,  # noqa: E402
-                           make_wrench, state_fields, vec, wait_until)
+                           make_wrench, state_fields, vec, wait_for_bag, wait_until)
 
 RUN, REPLAY = '/run/simulator', '/replay/simulator'
 INPUTS = ['apply_wrench', 'apply_impulse', 'wrench']
@@ -82,6 +82,7 @@ class ReplayTest(unittest.TestCase):
         finally:
             recorder.send_signal(signal.SIGINT)
             recorder.wait(timeout=20.0)
+            wait_for_bag(bag_path)
 
         # Replay the bag, in its order, into the fresh node; make sure it has them all.
         publishers = {'apply_wrench': self.replay.wrench_pub,

@@ -23,7 +23,7 @@ import rospy
 import rostest
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from sim_test_util import Simulator, wait_until  # noqa: E402
+from sim_test_util import Simulator, wait_for_bag, wait_until  # noqa: E402
 
 NODE = '/simulator'
 TOPICS = ['/tf', '/tf_static', '/clock', NODE + '/momentum', NODE + '/body_states',
@@ -74,6 +74,7 @@ class RosbagTest(unittest.TestCase):
         finally:
             recorder.send_signal(signal.SIGINT)
             recorder.wait(timeout=20.0)
+            wait_for_bag(bag_path)
 
         stamps = {t: [] for t in ['/tf', '/clock', NODE + '/momentum', NODE + '/body_states']}
         static = []

@@ -272,3 +272,14 @@ def body(array_msg, name):
         if getattr(b, 'body', None) == name or getattr(b, 'name', None) == name:
             return b
     raise AssertionError('no entry %r in %s' % (name, type(array_msg).__name__))
+
+
+def wait_for_bag(path, timeout=30.0):
+    """Waits until rosbag record has closed the bag at `path`.
+
+    `rosbag record` is a Python wrapper around the C++ recorder: the wrapper can exit on SIGINT
+    while its child is still writing the index and renaming `<path>.active` to `<path>`.
+    """
+    import os
+    wait_until(lambda: os.path.exists(path) and not os.path.exists(path + '.active'),
+               timeout=timeout, what='rosbag record to close ' + path, period=0.05)
