@@ -199,6 +199,30 @@ struct World::Impl {
     return l->second.second;
   }
 
+  // An input's directions and point, as queued: in world axes (frame < 0), or carried once from
+  // link L's frame into B with the constant placement M_BL — fixed in the link, it turns with it.
+  QueuedInput placed(QueuedInput::Kind kind, std::uint64_t step, int i, int frame,
+                     const cga::Force& F, const Eigen::Vector3d& point,
+                     const Eigen::Vector3d& couple) const {
+    QueuedInput q;
+    q.kind = kind;
+    q.step = step;
+    q.body = i;
+    if (frame < 0) {
+      q.axes = dynamics::Axes::kWorld;
+      q.F = F;
+      q.point = point;
+      q.couple = couple;
+    } else {
+      const cga::Motor& M_BL = scene.bodies[scene_index[i]].links[frame].M_BL;
+      q.axes = dynamics::Axes::kBody;
+      q.F = M_BL.apply(F, lambda);
+      q.point = M_BL.transformPoint(point, lambda);
+      q.couple = M_BL.transformVector(couple);
+    }
+    return q;
+  }
+
   // The step an input stamped s belongs to, or the refusal.
   Result<std::uint64_t> stepOf(const std::string& input, double s) const {
     if (s == 0.0) return step_count;
@@ -437,24 +461,8 @@ Result<bool> World::applyWrench(const WrenchInput& in) {
     steps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(n));
   }
 
-  QueuedInput q;
-  q.kind = QueuedInput::Kind::kWrench;
-  q.step = *k;
-  q.body = i;
+  QueuedInput q = w.placed(QueuedInput::Kind::kWrench, *k, i, *frame, in.F, in.point, in.couple);
   q.steps = steps;
-  if (*frame < 0) {
-    q.axes = dynamics::Axes::kWorld;
-    q.F = in.F;
-    q.point = in.point;
-    q.couple = in.couple;
-  } else {
-    // Fixed in link L: carried into B once with the constant placement M_BL.
-    const cga::Motor& M_BL = w.scene.bodies[w.scene_index[i]].links[*frame].M_BL;
-    q.axes = dynamics::Axes::kBody;
-    q.F = M_BL.apply(in.F, w.lambda);
-    q.point = M_BL.transformPoint(in.point, w.lambda);
-    q.couple = M_BL.transformVector(in.couple);
-  }
   // Room for this wrench when it starts, so step() does not allocate.
   std::size_t body_active = 0;
   for (const auto& a : w.active) body_active += a.body == i;
@@ -487,22 +495,8 @@ Result<bool> World::applyImpulse(const ImpulseInput& in) {
   auto k = w.stepOf(what, in.start_time);
   if (!k) return Error{k.error()};
 
-  QueuedInput q;
-  q.kind = QueuedInput::Kind::kImpulse;
-  q.step = *k;
-  q.body = i;
-  if (*frame < 0) {
-    q.axes = dynamics::Axes::kWorld;
-    q.F = in.J;
-    q.point = in.point;
-    q.couple = in.angular;
-  } else {
-    const cga::Motor& M_BL = w.scene.bodies[w.scene_index[i]].links[*frame].M_BL;
-    q.axes = dynamics::Axes::kBody;
-    q.F = M_BL.apply(in.J, w.lambda);
-    q.point = M_BL.transformPoint(in.point, w.lambda);
-    q.couple = M_BL.transformVector(in.angular);
-  }
+  const QueuedInput q =
+      w.placed(QueuedInput::Kind::kImpulse, *k, i, *frame, in.J, in.point, in.angular);
   w.queue.push(q);
   return true;
 }
