@@ -310,7 +310,11 @@ def plot_scaling(rows, path):
                                                    OUR_COLORS.get(integ, "#000000"))
         plots.append('$d%d using 1:2 with linespoints %s title "%s, %s"' % (
             i, style, integ, "sim::World" if layer == "world" else "bare dynamics loop"))
-    script += "set yrange [*:*]\n"
+    ys = [num(r["ns_per_body_step"]) for r in rows]
+    script += "set yrange [%g:%g]\n" % (min(10.0, 10 ** math.floor(math.log10(min(ys)))),
+                                         10 ** math.ceil(math.log10(max(ys)) + 0.5))
+    # One step of N bodies in dt = 1 ms of wall time: dt/N per body-step.
+    plots.append('1e6/x with lines lw 1.5 dt 3 lc rgb "#777777" title "real-time limit, dt/N"')
     script += "plot " + ", \\\n     ".join(plots) + "\n"
     return run_gnuplot(script, path)
 
