@@ -9,21 +9,17 @@ gets the bag's messages in order and is driven by ~step to the run's final step.
 every body's state must be equal — not close: equal.
 """
 import os
-import signal
-import subprocess
 import sys
 import tempfile
-import time
 import unittest
 
 import rosbag
-import rosgraph
 import rospy
 import rostest
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from sim_test_util import (Simulator, add, make_impulse, make_plain_wrench,  # noqa: E402
-                           make_wrench, state_fields, vec, wait_for_bag, wait_until)
+from sim_test_util import (Recorder, Simulator, add, make_impulse, make_plain_wrench,  # noqa: E402
+                           make_wrench, state_fields, vec, wait_until)
 
 RUN, REPLAY = '/run/simulator', '/replay/simulator'
 INPUTS = ['apply_wrench', 'apply_impulse', 'wrench']
@@ -38,20 +34,10 @@ class ReplayTest(unittest.TestCase):
         cls.live = Simulator(RUN)
         cls.replay = Simulator(REPLAY)
 
-    def recorder_subscribed(self):
-        _, subscribers, _ = rosgraph.Master('/replay_test').getSystemState()
-        subscribed = {t for t, nodes in subscribers if any(n.startswith('/record') for n in nodes)}
-        return all(RUN + '/' + t in subscribed for t in INPUTS)
-
     def test_replay_into_a_paused_node_is_bit_identical(self):
         bag_path = os.path.join(tempfile.mkdtemp(prefix='cga_rigid_sim_'), 'inputs.bag')
-        recorder = subprocess.Popen(
-            ['rosbag', 'record', '-O', bag_path, '__name:=record'] +
-            [RUN + '/' + t for t in INPUTS], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+        recorder = Recorder(bag_path, [RUN + '/' + t for t in INPUTS])
         try:
-            wait_until(self.recorder_subscribed, what='rosbag record subscribed')
-            time.sleep(1.0)
-
             # Inputs stamped ahead of the running clock, each in its own step.
             now = self.live.time()
             base = (now.to_nsec() // NS_PER_STEP + 300) * NS_PER_STEP
@@ -59,20 +45,20 @@ class ReplayTest(unittest.TestCase):
             def at(steps):
                 return rospy.Time(0, base + steps * NS_PER_STEP)
             com = vec(self.live.get('box').com)
-            self.live.wrench_pub.publish(make_wrench('box', (1.0, 2.0, 3.0),
-                                                    point=add(com, (0.03, 0.0, -0.02)),
-                                                    stamp=at(0), duration=0.3, alpha=5.0))
-            self.live.impulse_pub.publish(make_impulse('box', (0.1, -0.2, 0.05),
-                                                      point=add(com, (0.0, 0.04, 0.01)),
-                                                      torque=(0.001, 0.0, -0.002), stamp=at(50)))
-            self.live.plain_wrench_pub.publish(make_plain_wrench('box_marker', (0.5, 0.0, 0.0),
-                                                                (0.0, 0.01, 0.0), stamp=at(120)))
-            self.live.wrench_pub.publish(make_wrench('box', (0.0, 0.0, 4.0), point=(0.0, 0.05, 0.0),
-                                                    torque=(0.0, 0.0, 0.02), frame='box_marker',
-                                                    stamp=at(200), duration=0.1))
-            self.live.impulse_pub.publish(make_impulse('ball', (0.0, 0.3, 0.3),
-                                                      point=(0.01, 0.0, 0.0), frame='ball',
-                                                      stamp=at(260)))
+            live = self.live
+            live.wrench_pub.publish(make_wrench(
+                'box', (1.0, 2.0, 3.0), point=add(com, (0.03, 0.0, -0.02)), stamp=at(0),
+                duration=0.3, alpha=5.0))
+            live.impulse_pub.publish(make_impulse(
+                'box', (0.1, -0.2, 0.05), point=add(com, (0.0, 0.04, 0.01)),
+                torque=(0.001, 0.0, -0.002), stamp=at(50)))
+            live.plain_wrench_pub.publish(make_plain_wrench(
+                'box_marker', (0.5, 0.0, 0.0), (0.0, 0.01, 0.0), stamp=at(120)))
+            live.wrench_pub.publish(make_wrench(
+                'box', (0.0, 0.0, 4.0), point=(0.0, 0.05, 0.0), torque=(0.0, 0.0, 0.02),
+                frame='box_marker', stamp=at(200), duration=0.1))
+            live.impulse_pub.publish(make_impulse(
+                'ball', (0.0, 0.3, 0.3), point=(0.01, 0.0, 0.0), frame='ball', stamp=at(260)))
             wait_until(lambda: self.live.time() > at(600), timeout=30.0, period=0.05,
                        what='the run past its inputs')
             self.live.pause()
@@ -80,9 +66,7 @@ class ReplayTest(unittest.TestCase):
             states_run = {b: state_fields(self.live.get(b)) for b in BODIES}
             self.assertEqual(self.live.rejected, 0, 'the run refused an input')
         finally:
-            recorder.send_signal(signal.SIGINT)
-            recorder.wait(timeout=20.0)
-            wait_for_bag(bag_path)
+            recorder.stop()
 
         # Replay the bag, in its order, into the fresh node; make sure it has them all.
         publishers = {'apply_wrench': self.replay.wrench_pub,

@@ -10,20 +10,17 @@ possible, rosbag's subscriber queues would overflow by design). The bag is read 
 rosbag Python API (python3-rosbag).
 """
 import os
-import signal
-import subprocess
 import sys
 import tempfile
 import time
 import unittest
 
 import rosbag
-import rosgraph
 import rospy
 import rostest
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from sim_test_util import Simulator, wait_for_bag, wait_until  # noqa: E402
+from sim_test_util import Recorder, Simulator, wait_until  # noqa: E402
 
 NODE = '/simulator'
 TOPICS = ['/tf', '/tf_static', '/clock', NODE + '/momentum', NODE + '/body_states',
@@ -51,19 +48,10 @@ class RosbagTest(unittest.TestCase):
         self.assertFalse(extra, '%s: %d stamps off the ticks, first %s' % (
             what, len(extra), [str(t) for t in extra[:5]]))
 
-    def recorder_subscribed(self, node_prefix='/record'):
-        _, subscribers, _ = rosgraph.Master('/rosbag_test').getSystemState()
-        subscribed = {t for t, nodes in subscribers if any(n.startswith(node_prefix)
-                                                           for n in nodes)}
-        return all(t in subscribed for t in TOPICS)
-
     def test_no_tick_missing_in_a_5_s_recording(self):
         bag_path = os.path.join(tempfile.mkdtemp(prefix='cga_rigid_sim_'), 'run.bag')
-        recorder = subprocess.Popen(['rosbag', 'record', '-O', bag_path, '__name:=record'] +
-                                    TOPICS, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+        recorder = Recorder(bag_path, TOPICS)
         try:
-            wait_until(self.recorder_subscribed, what='rosbag record subscribed')
-            time.sleep(1.0)  # registered; let the publishers connect to it
             t_start = self.sim.time()
             self.sim.unpause()
             wait_until(lambda: (self.sim.time() - t_start).to_sec() >= RUN_S, timeout=30.0,
@@ -72,9 +60,7 @@ class RosbagTest(unittest.TestCase):
             t_end = self.sim.time()
             time.sleep(1.0)  # let the last messages reach the recorder
         finally:
-            recorder.send_signal(signal.SIGINT)
-            recorder.wait(timeout=20.0)
-            wait_for_bag(bag_path)
+            recorder.stop()
 
         stamps = {t: [] for t in ['/tf', '/clock', NODE + '/momentum', NODE + '/body_states']}
         static = []

@@ -6,9 +6,14 @@ Every wait is on the wall clock with a timeout, so a broken node fails a test in
 hanging it; tests drive time with ~step (paused) wherever exact numbers are checked.
 """
 import math
+import os
+import signal
+import subprocess
 import threading
 import time
 
+import rosgraph
+import roslib.packages
 import rospy
 from cga_rigid_sim.msg import BodyStateArray, CgaImpulse, CgaWrench, MomentumArray
 from cga_rigid_sim.srv import DeleteBody, GetBodyState, SetBodyState, SpawnUrdf, Step
@@ -152,6 +157,35 @@ class Simulator(object):
                    '~rejected_inputs == %d (now %s)' % (count, self.rejected))
 
 
+class Recorder(object):
+    """`rosbag record` of some topics into one bag, started and stopped by a test.
+
+    Runs rosbag's recorder executable itself, not the `rosbag` wrapper script: the wrapper runs
+    it as a child, so a signal to the wrapper would not wait for the bag to be closed.
+    """
+
+    def __init__(self, path, topics, name='record'):
+        found = roslib.packages.find_node('rosbag', 'record')
+        assert found, "rosbag's record executable not found"
+        self.path, self.topics, self.name = path, list(topics), '/' + name
+        self.proc = subprocess.Popen([found[0], '-O', path, '__name:=' + name] + self.topics,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+        wait_until(self._subscribed, what='rosbag record subscribed to %s' % self.topics)
+        time.sleep(1.0)  # registered with the master; let the publishers connect to it
+
+    def _subscribed(self):
+        _, subscribers, _ = rosgraph.Master('/recorder_probe').getSystemState()
+        subscribed = {t for t, nodes in subscribers if self.name in nodes}
+        return all(t in subscribed for t in self.topics)
+
+    def stop(self):
+        """Ctrl-C to the recorder; returns once the bag is closed."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+            self.proc.wait(timeout=TIMEOUT)
+        wait_for_bag(self.path)
+
+
 # ---- small vector and quaternion algebra (tuples; quaternions (w, x, y, z)) ----
 
 def vec(m):
@@ -280,6 +314,5 @@ def wait_for_bag(path, timeout=30.0):
     `rosbag record` is a Python wrapper around the C++ recorder: the wrapper can exit on SIGINT
     while its child is still writing the index and renaming `<path>.active` to `<path>`.
     """
-    import os
     wait_until(lambda: os.path.exists(path) and not os.path.exists(path + '.active'),
                timeout=timeout, what='rosbag record to close ' + path, period=0.05)
