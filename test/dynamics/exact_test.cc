@@ -14,18 +14,15 @@
 #include "cga_rigid_sim/dynamics/derived.h"
 #include "cga_rigid_sim/dynamics/free_flow.h"
 #include "cga_rigid_sim/dynamics/integrator_exact.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
 
-constexpr double kEps = 2.220446049250313e-16;
+using testing::principal;
 
-Inertia principal(const Eigen::Vector3d& J, double mass = 1.0) {
-  auto I = Inertia::fromPrincipal("body", mass, J);
-  EXPECT_TRUE(I.ok()) << I.error();
-  return *I;
-}
+constexpr double kEps = 2.220446049250313e-16;
 
 BodyState makeState(const Eigen::Quaterniond& R, const Eigen::Vector3d& x,
                     const Eigen::Vector3d& w_B, const Eigen::Vector3d& v_B, double lambda) {

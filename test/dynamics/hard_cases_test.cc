@@ -16,6 +16,7 @@
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/integrator_cga2.h"
 #include "cga_rigid_sim/dynamics/integrator_cga4.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -23,12 +24,11 @@ namespace {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
-
-Inertia principal(const Vector3d& J, double mass = 1.0) {
-  auto I = Inertia::fromPrincipal("body", mass, J);
-  EXPECT_TRUE(I.ok()) << I.error();
-  return *I;
-}
+using testing::mixedLoads;
+using testing::orientationError;
+using testing::principal;
+using testing::run;
+using testing::stateError;
 
 BodyState makeState(const Vector3d& w_B, const Vector3d& v_W = Vector3d::Zero(),
                     const Quaterniond& R = Quaterniond::Identity(),
@@ -45,29 +45,9 @@ std::unique_ptr<Integrator> make(const std::string& name) {
   return std::move(it.value());
 }
 
-// Rotation angle between two attitudes, up to the double cover (atan2: full precision near 0).
-double orientationError(const Quaterniond& a, const Quaterniond& b) {
-  const Quaterniond d = a.conjugate() * b;
-  return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
-
 // |L_B| = |J w|.
 double angularMomentumNorm(const Inertia& I, const BodyState& s) {
   return I.principalMoments().cwiseProduct(s.omega_B.rot).norm();
-}
-
-// A combined state error: attitude angle, and the differences of w, x and v (SI units).
-double stateError(const BodyState& s, const BodyState& ref, double lambda = 1.0) {
-  return orientationError(s.M_WB.rotation(), ref.M_WB.rotation()) +
-         (s.omega_B.rot - ref.omega_B.rot).norm() +
-         (comPosition_W(s, lambda) - comPosition_W(ref, lambda)).norm() +
-         (comVelocity_W(s, lambda) - comVelocity_W(ref, lambda)).norm();
-}
-
-BodyState run(Integrator& it, const Inertia& I, const Loads& loads, BodyState s, double h, long n,
-              double lambda = 1.0) {
-  for (long k = 0; k < n; ++k) it.step(I, loads, lambda, h, s);
-  return s;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -257,21 +237,6 @@ void expectOrder(const char* name, const Loads& loads, const std::vector<double>
     EXPECT_NEAR(errors[i] / errors[i + 1] / std::pow(2.0, order), 1.0, 0.15)
         << "h = " << hs[i] << ": " << errors[i] << " / " << errors[i + 1];
   }
-}
-
-Loads mixedLoads() {
-  Loads loads;
-  loads.setGravity(Vector3d(0, 0, -9.81));
-  AppliedLoad couple;
-  couple.axes = Axes::kWorld;
-  couple.couple = Vector3d(0.1, -0.2, 0.3);
-  loads.add(couple);
-  AppliedLoad thruster;
-  thruster.axes = Axes::kBody;
-  thruster.F = cga::Force(Vector3d(0.5, 0.2, -0.3));
-  thruster.point_B = Vector3d(0.1, -0.2, 0.05);
-  loads.add(thruster);
-  return loads;
 }
 
 TEST(HardCaseConvergence, Cga2IsSecondOrder) {

@@ -10,6 +10,7 @@
 
 #include "cga_rigid_sim/dynamics/derived.h"
 #include "cga_rigid_sim/dynamics/integrator_exact.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -17,12 +18,7 @@ namespace {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
-
-Inertia principal(const Vector3d& J, double mass = 1.0) {
-  auto I = Inertia::fromPrincipal("body", mass, J);
-  EXPECT_TRUE(I.ok()) << I.error();
-  return *I;
-}
+using testing::principal;
 
 BodyState tumbling() {
   BodyState s;

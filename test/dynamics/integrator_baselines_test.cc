@@ -11,6 +11,7 @@
 #include "cga_rigid_sim/dynamics/integrator_cga4.h"
 #include "cga_rigid_sim/dynamics/integrator_euler.h"
 #include "cga_rigid_sim/dynamics/integrator_rk4.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -18,44 +19,10 @@ namespace {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
-
-Inertia principal(const Vector3d& J, double mass = 1.0) {
-  auto I = Inertia::fromPrincipal("body", mass, J);
-  EXPECT_TRUE(I.ok()) << I.error();
-  return *I;
-}
-
-double orientationError(const Quaterniond& a, const Quaterniond& b) {
-  const Quaterniond d = a.conjugate() * b;
-  return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
-
-double stateError(const BodyState& s, const BodyState& ref) {
-  return orientationError(s.M_WB.rotation(), ref.M_WB.rotation()) +
-         (s.omega_B.rot - ref.omega_B.rot).norm() +
-         (comPosition_W(s, 1.0) - comPosition_W(ref, 1.0)).norm() +
-         (comVelocity_W(s, 1.0) - comVelocity_W(ref, 1.0)).norm();
-}
-
-Loads mixedLoads() {
-  Loads loads;
-  loads.setGravity(Vector3d(0, 0, -9.81));
-  AppliedLoad couple;
-  couple.axes = Axes::kWorld;
-  couple.couple = Vector3d(0.1, -0.2, 0.3);
-  loads.add(couple);
-  AppliedLoad thruster;
-  thruster.axes = Axes::kBody;
-  thruster.F = cga::Force(Vector3d(0.5, 0.2, -0.3));
-  thruster.point_B = Vector3d(0.1, -0.2, 0.05);
-  loads.add(thruster);
-  return loads;
-}
-
-BodyState run(Integrator& it, const Inertia& I, const Loads& loads, BodyState s, double h, long n) {
-  for (long k = 0; k < n; ++k) it.step(I, loads, 1.0, h, s);
-  return s;
-}
+using testing::mixedLoads;
+using testing::principal;
+using testing::run;
+using testing::stateError;
 
 // Truth: cga4 at a step 16× finer than the finest tested (error ≥ 1e4× below the tested ones).
 // The error ratio e(h)/e(h/2) of an order-p method tends to 2^p; ±15% at these h (the next term

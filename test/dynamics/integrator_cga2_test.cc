@@ -10,6 +10,7 @@
 
 #include "cga_rigid_sim/dynamics/derived.h"
 #include "common/cga_embedding.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -17,21 +18,10 @@ namespace {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
+using testing::maxDiff;
+using testing::principal;
 
 constexpr double kEps = 2.220446049250313e-16;
-
-Inertia principal(const Vector3d& J, double mass = 1.0) {
-  auto I = Inertia::fromPrincipal("body", mass, J);
-  EXPECT_TRUE(I.ok()) << I.error();
-  return *I;
-}
-
-double maxDiff(const cga::Motor& a, const cga::Motor& b) {
-  const auto ca = a.coefficients(), cb = b.coefficients();
-  double d = 0.0;
-  for (int i = 0; i < 8; ++i) d = std::max(d, std::abs(ca[i] - cb[i]));
-  return d;
-}
 
 Loads someLoads() {
   Loads loads;
