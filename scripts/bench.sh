@@ -52,7 +52,7 @@ if $install; then
 fi
 if $build; then
   stamp "building (Release, benchmarks on)"
-  bash scripts/build.sh -DBUILD_BENCHMARKS=ON
+  bash scripts/build.sh -DBUILD_BENCHMARKS=ON -DBUILD_PEER_BENCHMARKS=ON
 fi
 for exe in bench_work_precision bench_scaling; do
   [[ -x "$bin/$exe" ]] || { echo "bench.sh: $bin/$exe missing: build first" >&2; exit 1; }

@@ -21,7 +21,8 @@ if [[ -z "${CGA_RIGID_SIM_LOCK_HELD:-}" ]] && command -v flock >/dev/null; then
 fi
 
 bash scripts/install_deps.sh
-bash scripts/build.sh --tests "$@"
+# The peer engines' runners are benchmarks only (scripts/bench.sh builds them): skip them here.
+bash scripts/build.sh --tests -DBUILD_PEER_BENCHMARKS=OFF "$@"
 
 # Environment: Debian python first, the workspace's devel space, a private ROS home, and a
 # master URI that can only be local (rostest starts its own master on a free port).
