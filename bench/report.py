@@ -28,6 +28,7 @@ H_TABLE = 1e-3       # the step of the per-case tables and of several targets
 PLOT_FLOOR = 1e-16   # errors below this print as "< 1e-16" and plot at this value
 AT_FLOOR = 10.0      # "at the conditioning floor": error <= AT_FLOOR x floor
 UNIT_ROUNDOFF = 2.0 ** -53
+CLOCK = "wall"       # which clock the ns figures come from (--clock)
 USEFUL_RAD = 0.1     # orientation errors at or above this track nothing (T4 does not count them)
 ROUNDOFF_SLACK = 10.0  # T5: CoM error <= this x sqrt(N) u |x(T)| is "exact to round-off"
 
@@ -78,7 +79,7 @@ def read_cpu_times(out):
 
 
 def read_work_precision(out, clock="wall"):
-    cpu = read_cpu_times(out) if clock == "cpu" else {}
+    cpu = read_cpu_times(out)
     rows = []
     files = [os.path.join(out, "ours.csv")] + sorted(glob.glob(os.path.join(out, "peers_*.csv")))
     for path in files:
@@ -96,9 +97,10 @@ def read_work_precision(out, clock="wall"):
                     "E": num(r["err_energy_rel"]), "L": num(r["err_L_rel"]),
                     "blew": r["blew_up"].strip() not in ("0", ""),
                 })
+                rows[-1]["cpu"] = cpu.get((r["engine"], r["config"], r["case"],
+                                           "%.6g" % num(r["h"])), float("nan"))
                 if clock == "cpu":  # no CPU figure: NaN (not plotted), never the wall time
-                    rows[-1]["ns"] = cpu.get((r["engine"], r["config"], r["case"],
-                                              "%.6g" % num(r["h"])), float("nan"))
+                    rows[-1]["ns"] = rows[-1]["cpu"]
             except KeyError:
                 print("report.py: %s: unexpected columns, skipped" % path, file=sys.stderr)
                 break
@@ -336,11 +338,19 @@ def row_at(rows, case, engine, config, h):
     return None
 
 
+def cpu_note(value):
+    """' (thread CPU n)' beside a wall-clock figure, when the CPU time is known and differs."""
+    if CLOCK != "wall" or value is None or not math.isfinite(value):
+        return ""
+    return " (thread CPU %s)" % fmt_ns(value)
+
+
 def target_auto_floor(rows, cases):
     tf = [c for c, info in cases.items() if info.get("torque_free") == "1"]
     if not tf:
         return ("not measured", "no torque-free case in cases.csv", "")
     worst_ratio, worst_at, max_ns, max_ns_at, parts, missing = 0.0, "", 0.0, "", [], []
+    max_cpu = float("nan")
     for c in tf:
         floor = num(cases[c].get("floor_orientation_rad"))
         rs = our_rows(rows, c, "auto")
@@ -355,6 +365,8 @@ def target_auto_floor(rows, cases):
                 worst_ratio, worst_at = ratio, "%s, h = %s" % (c, fmt_h(r["h"]))
             if r["ns"] > max_ns:
                 max_ns, max_ns_at = r["ns"], "%s, h = %s" % (c, fmt_h(r["h"]))
+            if math.isfinite(r.get("cpu", float("nan"))):
+                max_cpu = r["cpu"] if not math.isfinite(max_cpu) else max(max_cpu, r["cpu"])
         parts.append("%s: worst error %s rad = %.3g × floor %s" % (
             c, fmt_err(max(r["ang"] for r in rs)), case_ratio, fmt_err(floor)))
     if missing:
@@ -362,6 +374,8 @@ def target_auto_floor(rows, cases):
     met = worst_ratio <= AT_FLOOR and max_ns <= 150
     fig = ("worst error/floor %.3g (%s); slowest %s ns/step (%s)" % (
         worst_ratio, worst_at, fmt_ns(max_ns), max_ns_at))
+    if CLOCK == "wall" and math.isfinite(max_cpu):
+        fig += "; slowest in thread CPU time %s ns/step" % fmt_ns(max_cpu)
     how = []
     if worst_ratio > AT_FLOOR:
         how.append("error %.3g× the floor, %.3g× over the allowance of %g× floor" % (
@@ -384,7 +398,8 @@ def target_cga4(rows):
     if not t_ok:
         how.append("%.0f%% over 150 ns" % (100 * (r["ns"] / 150 - 1)))
     return ("met" if e_ok and t_ok else "missed",
-            "%s rad at %s ns/step" % (fmt_err(r["ang"], r["blew"]), fmt_ns(r["ns"])),
+            "%s rad at %s ns/step%s" % (fmt_err(r["ang"], r["blew"]), fmt_ns(r["ns"]),
+                                        cpu_note(r.get("cpu"))),
             "; ".join(how))
 
 
@@ -393,15 +408,16 @@ def target_cga2(rows, cases):
     for c in cases:
         r = row_at(rows, c, OURS, "cga2", H_TABLE)
         if r is not None:
-            vals.append((r["ns"], c))
+            vals.append((r["ns"], c, r.get("cpu")))
     if not vals:
         return ("not measured", "no cga2 rows", "")
     worst = max(vals)
-    detail = ", ".join("%s %s" % (c, fmt_ns(v)) for v, c in vals)
+    detail = ", ".join("%s %s%s" % (c, fmt_ns(v), cpu_note(cpu)) for v, c, cpu in vals)
     how = "" if worst[0] <= 60 else "worst %.0f%% over 60 ns (%s)" % (
         100 * (worst[0] / 60 - 1), worst[1])
     return ("met" if worst[0] <= 60 else "missed",
-            "worst %s ns/step at h = 1 ms (%s)" % (fmt_ns(worst[0]), worst[1]),
+            "worst %s ns/step at h = 1 ms (%s)%s" % (fmt_ns(worst[0]), worst[1],
+                                                     cpu_note(worst[2])),
             (how + "<br>" if how else "") + "per case: " + detail)
 
 
@@ -621,6 +637,8 @@ def main():
                     help="ns from wall time (default) or from the thread-CPU side files "
                          "(robust to other load on a busy machine)")
     args = ap.parse_args()
+    global CLOCK
+    CLOCK = args.clock
 
     rows = read_work_precision(args.out, args.clock)
     cases = {r["case"]: r for r in read_csv(os.path.join(args.out, "cases.csv"))}
@@ -648,8 +666,8 @@ def main():
 
     doc = ["# Benchmarks", "",
            "Generated by `bench/report.py` from the CSVs in `bench/out/` (not committed); "
-           "regenerate everything with `bash scripts/bench.sh` (about %s on this machine). "
-           "Do not edit by hand." % env.get("bench_duration", "15 min"), ""]
+           "regenerate everything with `bash scripts/bench.sh` (the run shown here took %s). "
+           "Do not edit by hand." % env.get("bench_duration", "?"), ""]
 
     # Machine and versions.
     doc += ["## Machine and versions", ""]

@@ -110,7 +110,9 @@ if $node; then
 fi
 
 elapsed=$(( $(date +%s) - start ))
-echo "bench_duration: $((elapsed / 60)) min $((elapsed % 60)) s (scripts/bench.sh $*)" >> "$out/environment.txt"
+load_end=$(cut -d' ' -f1-3 /proc/loadavg)
+echo "bench_duration: $((elapsed / 60)) min $((elapsed % 60)) s (scripts/bench.sh $*; load average" \
+  "at the end $load_end)" >> "$out/environment.txt"
 stamp "report"
 /usr/bin/python3 bench/report.py --out "$out" --clock "$clock"
 stamp "done: docs/benchmarks.md, docs/img/*.png (raw results in bench/out/)"
