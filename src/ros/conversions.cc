@@ -237,15 +237,24 @@ cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r) {
   return m;
 }
 
-cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
-                                                const ::ros::Time& stamp,
-                                                const std::string& world_frame) {
-  cga_rigid_sim::MomentumArray m;
+namespace {
+// An array message: a header in the world frame and one entry per report.
+template <class ArrayMsg, class Report, class Convert>
+ArrayMsg toArrayMsg(const std::vector<Report>& reports, const ::ros::Time& stamp,
+                    const std::string& world_frame, Convert convert) {
+  ArrayMsg m;
   m.header.stamp = stamp;
   m.header.frame_id = world_frame;
   m.bodies.reserve(reports.size());
-  for (const auto& r : reports) m.bodies.push_back(toMomentumMsg(r));
+  for (const auto& r : reports) m.bodies.push_back(convert(r));
   return m;
+}
+}  // namespace
+
+cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
+                                                const ::ros::Time& stamp,
+                                                const std::string& world_frame) {
+  return toArrayMsg<cga_rigid_sim::MomentumArray>(reports, stamp, world_frame, toMomentumMsg);
 }
 
 cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
@@ -265,12 +274,7 @@ cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
 cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
                                                   const ::ros::Time& stamp,
                                                   const std::string& world_frame) {
-  cga_rigid_sim::BodyStateArray m;
-  m.header.stamp = stamp;
-  m.header.frame_id = world_frame;
-  m.bodies.reserve(reports.size());
-  for (const auto& r : reports) m.bodies.push_back(toBodyStateMsg(r));
-  return m;
+  return toArrayMsg<cga_rigid_sim::BodyStateArray>(reports, stamp, world_frame, toBodyStateMsg);
 }
 
 geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,
