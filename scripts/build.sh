@@ -25,12 +25,9 @@ for arg in "$@"; do
 done
 
 # One build/test at a time in this checkout.
-mkdir -p build
-if [[ -z "${CGA_RIGID_SIM_LOCK_HELD:-}" ]] && command -v flock >/dev/null; then
-  exec 9>build/.lock
-  flock -n 9 || { echo "build.sh: waiting for another build/test in this checkout"; flock 9; }
-  export CGA_RIGID_SIM_LOCK_HELD=1
-fi
+# shellcheck source=scripts/build_lock.sh
+source scripts/build_lock.sh
+take_build_lock build.sh
 
 # Debian's python (with catkin_pkg) first; ROS Noetic environment when present.
 export PATH="/usr/bin:$PATH"

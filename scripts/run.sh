@@ -12,12 +12,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$(pwd)
 
 # One build/test at a time in this checkout.
-mkdir -p build
-if [[ -z "${CGA_RIGID_SIM_LOCK_HELD:-}" ]] && command -v flock >/dev/null; then
-  exec 9>build/.lock
-  flock -n 9 || { echo "run.sh: waiting for another build/test in this checkout"; flock 9; }
-  export CGA_RIGID_SIM_LOCK_HELD=1
-fi
+# shellcheck source=scripts/build_lock.sh
+source scripts/build_lock.sh
+take_build_lock run.sh
 
 bash scripts/install_deps.sh
 bash scripts/build.sh -DBUILD_PEER_BENCHMARKS=OFF

@@ -12,13 +12,10 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$(pwd)
 
-# One build/test at a time in this checkout (build.sh sees the lock is held).
-mkdir -p build
-if [[ -z "${CGA_RIGID_SIM_LOCK_HELD:-}" ]] && command -v flock >/dev/null; then
-  exec 9>build/.lock
-  flock -n 9 || { echo "test.sh: waiting for another build/test in this checkout"; flock 9; }
-  export CGA_RIGID_SIM_LOCK_HELD=1
-fi
+# One build/test at a time in this checkout.
+# shellcheck source=scripts/build_lock.sh
+source scripts/build_lock.sh
+take_build_lock test.sh
 
 bash scripts/install_deps.sh
 # The peer engines' runners are benchmarks only (scripts/bench.sh builds them): skip them here.
