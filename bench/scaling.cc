@@ -16,7 +16,6 @@
 // CSV (bench/out/scaling.csv): layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,
 // real_time_factor,cpu_ns_per_body_step — real_time_factor is dt over the wall time of one step
 // (≥ 1: real time on one core); the last column is the thread CPU time per body-step.
-#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -29,26 +28,15 @@
 #include <string>
 #include <vector>
 
+#include "bench_clock.h"
 #include "cga_rigid_sim/cga/motor.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/world.h"
 
-#ifndef BENCH_OUT_DIR
-#define BENCH_OUT_DIR "bench/out"
-#endif
-
 namespace cga_rigid_sim {
 namespace benchmark {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double threadCpuSeconds() {
-  timespec ts;
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 // One free body as generated: inertia (principal frame B) and initial state.
 struct Body {

@@ -22,7 +22,6 @@
 // linear regime) scaled back by u / 2⁻⁴⁰; the three axes are combined as a root sum of squares.
 // No double-precision method can be expected to beat it: every step rounds the state by about
 // that much.
-#include <time.h>
 
 #include <algorithm>
 #include <array>
@@ -38,26 +37,15 @@
 #include <string>
 #include <vector>
 
+#include "bench_clock.h"
 #include "case_setup.h"
 #include "cases.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "reference_solution.h"
 
-#ifndef BENCH_OUT_DIR
-#define BENCH_OUT_DIR "bench/out"
-#endif
-
 namespace cga_rigid_sim {
 namespace benchmark {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double threadCpuSeconds() {
-  timespec ts;
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 const char* const kEngine = "cga_rigid_sim";
 const char* const kHeader =
