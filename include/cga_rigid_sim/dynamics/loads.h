@@ -39,6 +39,8 @@ class Loads {
   bool hasGravity() const { return !g_W_.isZero(0.0); }
 
   void add(const AppliedLoad& load) { applied_.push_back(load); }
+  /// Room for n applied loads, so that add() does not allocate until there are more.
+  void reserveApplied(std::size_t n) { applied_.reserve(n); }
   void clearApplied() { applied_.clear(); }
   const std::vector<AppliedLoad>& applied() const { return applied_; }
   bool hasApplied() const { return !applied_.empty(); }

@@ -10,12 +10,13 @@
 // the order they take effect in depends on their stamps and, within one step, on the order
 // they arrived — never on wall time.
 //
-// One step k: (1) inputs due at k, in (step, arrival) order: impulses make Ω_B jump (then the
-// body's integrator is reset), wrenches start; (2) each body's loads are gravity plus its
-// active wrenches (summed in the order they started); (3) every moving body is integrated over
-// [t_k, t_{k+1}]; (4) wrenches whose last step was k end. Static bodies are never stepped. A moving
-// body with no loads and Ω_B = 0 is at rest for every integrator: it is skipped (its state is left
-// exactly as it is).
+// One step k is a pipeline of stages over the constant Model and the changing Data
+// (sim/stages.h, doc/architecture.md): (1) inputs due at k, in (step, arrival) order: impulses
+// make Ω_B jump (then the body's integrator is reset), wrenches start; (2) each body's loads
+// are gravity plus its active wrenches (summed in the order they started); (3) every moving
+// body is integrated over [t_k, t_{k+1}]; (4) wrenches whose last step was k end. Static bodies
+// are never stepped. A moving body with no loads and Ω_B = 0 is at rest for every integrator:
+// it is skipped (its state is left exactly as it is).
 //
 // Wrenches (WrenchInput). Given in a link frame (`frame` a link of the body) a wrench is fixed
 // in that link and turns with it for its whole duration (a thruster): force, point and couple
@@ -33,7 +34,8 @@
 // frame they are in that link's frame (fixed in the body). The pose does not jump.
 //
 // Validation. Every input is checked completely before anything is queued or changed: on a
-// refusal the world is exactly as before. Messages read "<input>.<field>: <rule>", e.g.
+// refusal the world is exactly as before. The Error names input, field and rule
+// (result.h); its message reads "<input>.<field>: <rule>", e.g.
 // "apply_wrench.f.y: not finite (nan)", "apply_wrench.body: body 'table' is static",
 // "apply_impulse.frame: frame 'x' is not the world frame 'world' nor a link of body 'b'",
 // "apply_wrench.start_time: start stamp 0.5 is already past (sim time 1)". Field names are
@@ -43,9 +45,9 @@
 // the world frame or a link of that body; stamp not past and at most kMaxSteps steps ahead;
 // duration at most kMaxSteps steps.
 //
-// Performance: bodies live in contiguous arrays (states, inertias, loads, one integrator
-// object each); step() looks up no string and does not allocate (room for loads is reserved
-// when an input arrives).
+// Performance: moving bodies live in contiguous arrays (Model::moving, Data::bodies: state,
+// loads, one integrator object each); step() looks up no string and does not allocate (room
+// for loads is reserved when an input arrives).
 #pragma once
 
 #include <Eigen/Core>
@@ -56,66 +58,17 @@
 #include <string>
 #include <vector>
 
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/inputs.h"
+#include "cga_rigid_sim/sim/reports.h"
+#include "cga_rigid_sim/sim/world_config.h"
 
 namespace cga_rigid_sim {
 namespace sim {
 
-/// Stamps and durations farther than this many steps are refused (at dt = 1 ms, 31 000 years);
-/// it keeps step numbers well inside the integers a double holds exactly (2^53 ≈ 9e15).
-constexpr double kMaxSteps = 1e15;
-/// Points of application farther than this from their frame's origin are refused, m: their
-/// moments would be round-off.
-constexpr double kMaxPointDistance = 1e9;
-/// A pose's rotation matrix R must satisfy max|RᵀR − I| ≤ this and det R > 0. Rotations that
-/// went through single precision (ε ≈ 6e-8) pass; the quaternion taken from R is normalised.
-constexpr double kRotationTolerance = 1e-6;
-/// The name of the scene total in momentum().
-constexpr const char* kTotalName = "total";
-
-struct WorldConfig {
-  double dt = 0.001;  ///< s, > 0
-  std::string integrator = "auto";
-  std::string world_frame = "world";
-  double max_force = 1e6;    ///< N (and N m for couples): larger inputs are refused
-  double max_impulse = 1e4;  ///< N s (and N m s)
-  /// For URDFs loaded by spawnUrdf (the node's ~relax_inertia).
-  dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kRefuse;
-};
-
-/// Momentum and energy of one body (or of the whole scene, named "total"), world axes.
-/// For "total": linear, angular_origin and the energies are the sums over the moving bodies;
-/// `angular` is the angular momentum about the system's centre of mass,
-/// L_origin − x_cm × P (the bodies' spins plus their orbital momentum about x_cm).
-struct MomentumReport {
-  std::string body;
-  Eigen::Vector3d linear = Eigen::Vector3d::Zero();          ///< kg m/s
-  Eigen::Vector3d angular = Eigen::Vector3d::Zero();         ///< about the CoM, kg m²/s
-  Eigen::Vector3d angular_origin = Eigen::Vector3d::Zero();  ///< about the world origin
-  double kinetic_energy = 0.0;                               ///< J
-  double potential_energy = 0.0;                             ///< J, uniform gravity
-};
-
-/// A body's state as users see it (world axes).
-struct BodyStateReport {
-  std::string name;
-  Eigen::Isometry3d pose_root = Eigen::Isometry3d::Identity();  ///< root link frame in world
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();                ///< centre of mass, world
-  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();    ///< of the CoM, world axes
-  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();   ///< world axes
-  dynamics::BodyState state;  ///< motor M_WB and bivelocity Ω_B (blade coefficients)
-};
-
-/// A frame to publish: `child` (a link) relative to `parent` (world frame or a root link).
-struct FramePose {
-  std::string parent;
-  std::string child;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-};
+struct Model;
+struct Data;
 
 class World {
  public:
@@ -128,13 +81,15 @@ class World {
 
   const WorldConfig& config() const;
   const scene::Scene& scene() const;
+  /// The constant model and the changing data (sim/model.h, sim/data.h), read-only.
+  const Model& model() const;
+  const Data& data() const;
   /// Steps done since creation (never goes back, also not on reset).
   std::uint64_t stepCount() const;
   /// Simulation time t = stepCount·dt, s.
   double time() const;
 
-  /// Advances one step: due impulses, then loads (gravity + active wrenches), integrate
-  /// (the sequence in the file comment). Allocation-free.
+  /// Advances one step: the pipeline of stages (sim/stages.h). Allocation-free.
   void step();
   /// n steps.
   void step(std::uint64_t n);
@@ -157,8 +112,8 @@ class World {
   /// Sets pose (root link frame, world) and velocities (CoM velocity and angular velocity,
   /// world axes) of a moving body, effective before the next step:
   /// M_WB = M_WL0 M_BL0⁻¹, Ω_B = R̃ w + (1/λ) (R̃ v)∧n. Refuses non-finite numbers, a rotation
-  /// that is not proper (kRotationTolerance), unknown and static bodies. The body's integrator
-  /// is reset; its world-frame wrenches keep their material points.
+  /// that is not proper, unknown and static bodies. The body's integrator is reset; its
+  /// world-frame wrenches keep their material points.
   Result<bool> setBodyState(const std::string& body, const Eigen::Isometry3d& pose_root,
                             const Eigen::Vector3d& linear_velocity_W,
                             const Eigen::Vector3d& angular_velocity_W);

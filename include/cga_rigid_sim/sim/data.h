@@ -1,0 +1,65 @@
+// Data: everything of a World that changes as it runs — time, the moving bodies' states, their
+// integrators' caches and loads, the queued and active inputs. Made from a Model (makeData);
+// the stages of the step (sim/stages.h) read the Model and write the Data.
+//
+// A per-moving-body datum is one member of MovingBodyData: it is made in one place
+// (makeBodyData), reset by remaking it and erased with its body (sim/topology.cc).
+//
+// Where the next capabilities go (doc/architecture.md): the contacts found in a step and their
+// impulses, and the joint coordinates of articulated trees, become members here, filled by
+// their own stages between the loads and the integration.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/sim/input_queue.h"
+#include "cga_rigid_sim/sim/model.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// What the last step did with a body (for the summary).
+enum class StepPath : std::uint8_t { kNotStepped, kStepped, kAtRest };
+
+/// The changing part of one moving body.
+struct MovingBodyData {
+  dynamics::BodyState state;                         ///< motor M_WB, bivelocity Ω_B
+  std::unique_ptr<dynamics::Integrator> integrator;  ///< one per body (it may cache)
+  dynamics::Loads loads;                             ///< gravity + its active wrenches
+  bool loads_dirty = false;  ///< its set of active wrenches changed this step
+  StepPath last_path = StepPath::kNotStepped;
+};
+
+/// A wrench that has started: its load (point in B) and the first step it no longer acts in.
+struct ActiveWrench {
+  int body = -1;  ///< moving index
+  std::uint64_t end_step = kUntilCleared;
+  dynamics::AppliedLoad load;
+};
+
+struct Data {
+  std::uint64_t step_count = 0;  ///< steps done; t = step_count·dt (never goes back)
+
+  /// Per moving body i (the Model's moving index).
+  std::vector<MovingBodyData> bodies;
+  /// Moving indices whose loads_dirty is set (capacity: one slot per body, so no allocation).
+  std::vector<int> dirty_list;
+
+  InputQueue queue;                           ///< validated inputs waiting for their step
+  std::vector<ActiveWrench> active;           ///< started wrenches, in the order they started
+  std::uint64_t next_expiry = kUntilCleared;  ///< smallest end_step in `active`
+};
+
+/// The data of a moving body at state `initial`: a fresh integrator, gravity as its only load.
+/// Fails only for an unknown integrator name (compileModel has checked it).
+Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyState& initial);
+/// The Data of a new World: every moving body at its initial state, time 0, nothing queued.
+Result<Data> makeData(const Model& model);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,77 @@
+// Model: what a World simulates and does not change while it steps — the scene's bodies in
+// parent-first order with their parent, names, inertias, link frames and initial states, and
+// the configuration. Compiled once from a scene::Scene (compileModel); spawnUrdf and deleteBody
+// edit it together with the Data (sim/topology.h), nothing else does.
+//
+// Two index spaces:
+//   body index j   — position in scene.bodies, every body (moving and static);
+//   moving index i — position in `moving`, the moving bodies only, in scene order. Every
+//                    per-moving-body array of the Model and of the Data is indexed by i.
+// The step only touches moving indices; names and body indices serve inputs and reports.
+//
+// Where the next capabilities go (doc/architecture.md): collision shapes per link join
+// scene::BodyModel; articulated trees add joints and use `parent` (today every body hangs on
+// the world: parent −1).
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/scene.h"
+#include "cga_rigid_sim/sim/world_config.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// The constant part of one moving body.
+struct MovingBody {
+  int body = -1;                ///< its body index j (scene.bodies)
+  dynamics::Inertia inertia;    ///< mass and principal moments, frame B
+  dynamics::BodyState initial;  ///< the state reset() returns to
+};
+
+struct Model {
+  WorldConfig config;
+  double lambda = 1.0;  ///< CGA length scale, m (the scene's)
+  scene::Scene scene;   ///< every body: names, links (M_BL), static poses, initial states
+
+  /// Per body j: the body it hangs on (−1: the world). Bodies come parent first.
+  std::vector<int> parent;
+  /// Per body j: its moving index i, or −1 for a static body.
+  std::vector<int> moving_of_body;
+  /// Per moving body i.
+  std::vector<MovingBody> moving;
+
+  /// Name look-ups (inputs and reports; never used by the step).
+  std::map<std::string, int> body_by_name;                // body name → j
+  std::map<std::string, std::pair<int, int>> link_owner;  // link → (j, link index in the body)
+
+  /// Bumped whenever the set of bodies changes (spawn, delete).
+  std::uint64_t topology_version = 0;
+
+  /// The body index of a body given by its name or, failing that, by any of its links; −1.
+  int resolveBody(const std::string& name) const;
+  /// The body index of a body given by its name only; −1.
+  int findBody(const std::string& name) const;
+  /// The scene body of moving body i.
+  const scene::BodyModel& bodyOf(int i) const { return scene.bodies[moving[i].body]; }
+};
+
+/// Checks the configuration and the scene and compiles the Model: refuses dt ≤ 0 or not
+/// finite, limits not finite and > 0, an empty world frame, an unknown integrator, λ ≤ 0,
+/// gravity not finite, and a scene that is not consistent (a body without name or links,
+/// duplicate body or link names, a link named like the world frame, a moving body without
+/// inertia, an initial state that is not finite). Errors have input "config" or "scene".
+Result<Model> compileModel(scene::Scene scene, const WorldConfig& config);
+
+/// Adds scene body `body` (already checked) at the end: body index, moving index, names.
+/// Returns its body index. Used by compileModel and by spawning (sim/topology.h).
+int appendBody(Model& model, scene::BodyModel body);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

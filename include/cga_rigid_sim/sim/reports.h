@@ -1,0 +1,61 @@
+// What a World reports about itself: momentum and energy, body states, frames to publish, and
+// a one-screen summary — computed from (Model, Data), never stored.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/sim/data.h"
+#include "cga_rigid_sim/sim/model.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// Momentum and energy of one body (or of the whole scene, named "total"), world axes.
+/// For "total": linear, angular_origin and the energies are the sums over the moving bodies;
+/// `angular` is the angular momentum about the system's centre of mass,
+/// L_origin − x_cm × P (the bodies' spins plus their orbital momentum about x_cm).
+struct MomentumReport {
+  std::string body;
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();          ///< kg m/s
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();         ///< about the CoM, kg m²/s
+  Eigen::Vector3d angular_origin = Eigen::Vector3d::Zero();  ///< about the world origin
+  double kinetic_energy = 0.0;                               ///< J
+  double potential_energy = 0.0;                             ///< J, uniform gravity
+};
+
+/// A body's state as users see it (world axes).
+struct BodyStateReport {
+  std::string name;
+  Eigen::Isometry3d pose_root = Eigen::Isometry3d::Identity();  ///< root link frame in world
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();                ///< centre of mass, world
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();    ///< of the CoM, world axes
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();   ///< world axes
+  dynamics::BodyState state;  ///< motor M_WB and bivelocity Ω_B (blade coefficients)
+};
+
+/// A frame to publish: `child` (a link) relative to `parent` (world frame or a root link).
+struct FramePose {
+  std::string parent;
+  std::string child;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+
+/// Per moving body (scene order), then the scene total named kTotalName.
+std::vector<MomentumReport> momentumReports(const Model& model, const Data& data);
+/// Body j (static bodies: their fixed pose, zero velocities).
+BodyStateReport bodyStateReport(const Model& model, const Data& data, int j);
+/// Every moving body.
+std::vector<BodyStateReport> bodyStateReports(const Model& model, const Data& data);
+/// world_frame → root link of every moving body.
+std::vector<FramePose> movingFrames(const Model& model, const Data& data);
+/// world_frame → root link of static bodies, and root link → each merged link.
+std::vector<FramePose> staticFrames(const Model& model);
+/// The integrator path per body, first 20 listed, counts per path.
+std::string worldSummary(const Model& model, const Data& data);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,34 @@
+// The stages of one step k, over [t_k, t_{k+1}], t_k = k·dt. World::step() runs them in this
+// order (doc/architecture.md draws the pipeline):
+//
+//   applyDueInputs   inputs due at step k, in (step, arrival) order: an impulse makes Ω_B jump
+//                    by (I∧n)⁻¹ T_imp (the pose does not jump; the body's integrator is reset),
+//                    a wrench starts (stage_inputs.cc);
+//   updateLoads      each body's loads become gravity plus its active wrenches, summed in the
+//                    order they started — rebuilt only for bodies whose set changed
+//                    (stage_loads.cc);
+//   (contacts and articulated joints enter here: detection, then impulses that act like user
+//    impulses, then trees through the articulated-body algorithm)
+//   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator; a body with no
+//                    load and Ω_B = 0 is at rest under every integrator and is skipped; then the
+//                    clock advances, t = (k + 1)·dt (stage_integrate.cc);
+//   expireInputs     wrenches whose last step was k end; their loads drop out at the next
+//                    updateLoads (stage_expire.cc).
+//
+// Every stage is a free function over (const Model&, Data&), allocation-free and
+// deterministic: the same Model, Data and queued inputs give bit-identical states.
+#pragma once
+
+#include "cga_rigid_sim/sim/data.h"
+#include "cga_rigid_sim/sim/model.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+void applyDueInputs(const Model& model, Data& data);
+void updateLoads(const Model& model, Data& data);
+void integrateBodies(const Model& model, Data& data);
+void expireInputs(const Model& model, Data& data);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,105 @@
+// compileModel: scene::Scene + WorldConfig → Model, and the name look-ups.
+#include "cga_rigid_sim/sim/model.h"
+
+#include <cmath>
+
+#include "cga_rigid_sim/dynamics/integrator.h"
+#include "input_rules.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+int Model::findBody(const std::string& name) const {
+  const auto b = body_by_name.find(name);
+  return b == body_by_name.end() ? -1 : b->second;
+}
+
+int Model::resolveBody(const std::string& name) const {
+  const int j = findBody(name);
+  if (j >= 0) return j;
+  const auto l = link_owner.find(name);
+  return l != link_owner.end() ? l->second.first : -1;
+}
+
+int appendBody(Model& model, scene::BodyModel body) {
+  const int j = static_cast<int>(model.scene.bodies.size());
+  model.body_by_name[body.name] = j;
+  for (int li = 0; li < static_cast<int>(body.links.size()); ++li)
+    model.link_owner[body.links[li].link] = {j, li};
+  model.parent.push_back(-1);  // free or static: every body hangs on the world
+  if (body.is_static) {
+    model.moving_of_body.push_back(-1);
+  } else {
+    model.moving_of_body.push_back(static_cast<int>(model.moving.size()));
+    model.moving.push_back({j, *body.inertia, dynamics::BodyState{body.M_WB0, body.omega_B0}});
+  }
+  model.scene.bodies.push_back(std::move(body));
+  return j;
+}
+
+namespace {
+
+// The configuration's rules (input "config").
+std::optional<Error> checkConfig(const WorldConfig& config) {
+  if (!std::isfinite(config.dt) || !(config.dt > 0))
+    return Error("config", "dt", "must be finite and > 0 (got " + num(config.dt) + ")");
+  if (!std::isfinite(config.max_force) || !(config.max_force > 0))
+    return Error("config", "max_force",
+                 "must be finite and > 0 (got " + num(config.max_force) + ")");
+  if (!std::isfinite(config.max_impulse) || !(config.max_impulse > 0))
+    return Error("config", "max_impulse",
+                 "must be finite and > 0 (got " + num(config.max_impulse) + ")");
+  if (config.world_frame.empty()) return Error("config", "world_frame", "must not be empty");
+  // An unknown integrator is refused even when there is no moving body.
+  auto integ = dynamics::makeIntegrator(config.integrator);
+  if (!integ) return Error("config", "integrator", integ.error());
+  return std::nullopt;
+}
+
+// One scene body against the bodies before it (input "scene").
+std::optional<Error> checkBody(const Model& model, const scene::BodyModel& b, int j) {
+  if (b.name.empty()) return Error("scene", "body " + std::to_string(j), "has no name");
+  const std::string where = "body '" + b.name + "'";
+  if (model.body_by_name.count(b.name)) return Error("scene", where, "name used twice");
+  if (b.links.empty()) return Error("scene", where, "has no link");
+  for (std::size_t li = 0; li < b.links.size(); ++li) {
+    const scene::LinkFrame& l = b.links[li];
+    if (l.link == model.config.world_frame)
+      return Error("scene", where, "link '" + l.link + "' has the name of the world frame");
+    if (model.link_owner.count(l.link))
+      return Error("scene", where, "link '" + l.link + "' used twice");
+    for (std::size_t lj = 0; lj < li; ++lj)
+      if (b.links[lj].link == l.link)
+        return Error("scene", where, "link '" + l.link + "' used twice");
+    if (!l.M_BL.allFinite()) return Error("scene", where, "link '" + l.link + "': M_BL not finite");
+  }
+  if (!b.M_WB0.allFinite()) return Error("scene", where, "initial pose not finite");
+  if (b.is_static) return std::nullopt;
+  if (!b.inertia) return Error("scene", where, "moving body without inertia");
+  if (!b.omega_B0.allFinite()) return Error("scene", where, "initial velocity not finite");
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<Model> compileModel(scene::Scene scene, const WorldConfig& config) {
+  if (auto e = checkConfig(config)) return *e;
+  if (!std::isfinite(scene.lambda) || !(scene.lambda > 0))
+    return Error("scene", "lambda", "must be finite and > 0 (got " + num(scene.lambda) + ")");
+  if (auto e = checkFinite("scene", "gravity_W", scene.gravity_W)) return *e;
+
+  Model model;
+  model.config = config;
+  model.lambda = scene.lambda;
+  std::vector<scene::BodyModel> bodies = std::move(scene.bodies);
+  scene.bodies.clear();
+  model.scene = std::move(scene);
+  for (std::size_t j = 0; j < bodies.size(); ++j) {
+    if (auto e = checkBody(model, bodies[j], static_cast<int>(j))) return *e;
+    appendBody(model, std::move(bodies[j]));
+  }
+  return model;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

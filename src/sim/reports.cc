@@ -1,0 +1,147 @@
+#include "cga_rigid_sim/sim/reports.h"
+
+#include <map>
+#include <sstream>
+
+#include "cga_rigid_sim/dynamics/derived.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+std::vector<MomentumReport> momentumReports(const Model& model, const Data& data) {
+  const double lambda = model.lambda;
+  const Eigen::Vector3d& g_W = model.scene.gravity_W;
+  std::vector<MomentumReport> out;
+  out.reserve(data.bodies.size() + 1);
+  MomentumReport total;
+  total.body = kTotalName;
+  double mass = 0.0;
+  Eigen::Vector3d mass_x = Eigen::Vector3d::Zero();  // Σ m x_c
+  for (std::size_t i = 0; i < data.bodies.size(); ++i) {
+    const dynamics::Inertia& I = model.moving[i].inertia;
+    const dynamics::BodyState& s = data.bodies[i].state;
+    MomentumReport r;
+    r.body = model.bodyOf(static_cast<int>(i)).name;
+    r.linear = dynamics::linearMomentum_W(I, s, lambda);
+    r.angular = dynamics::angularMomentumCom_W(I, s);
+    r.angular_origin = dynamics::angularMomentumOrigin_W(I, s, lambda);
+    r.kinetic_energy = dynamics::kineticEnergy(I, s, lambda);
+    r.potential_energy = dynamics::potentialEnergy(I, s, g_W, lambda);
+    total.linear += r.linear;
+    total.angular_origin += r.angular_origin;
+    total.kinetic_energy += r.kinetic_energy;
+    total.potential_energy += r.potential_energy;
+    mass += I.mass();
+    mass_x += I.mass() * dynamics::comPosition_W(s, lambda);
+    out.push_back(std::move(r));
+  }
+  // About the system's centre of mass x_cm = Σ m x_c / Σ m: L_cm = L_origin − x_cm × P.
+  if (mass > 0) total.angular = total.angular_origin - (mass_x / mass).cross(total.linear);
+  out.push_back(std::move(total));
+  return out;
+}
+
+BodyStateReport bodyStateReport(const Model& model, const Data& data, int j) {
+  const scene::BodyModel& b = model.scene.bodies[j];
+  const int i = model.moving_of_body[j];
+  const double lambda = model.lambda;
+  BodyStateReport r;
+  r.name = b.name;
+  if (i >= 0) {
+    r.state = data.bodies[i].state;
+  } else {
+    r.state.M_WB = b.M_WB0;  // static: fixed pose, no velocity
+  }
+  r.pose_root = (r.state.M_WB * b.links.front().M_BL).toIsometry(lambda);
+  r.com = dynamics::comPosition_W(r.state, lambda);
+  r.linear_velocity = dynamics::comVelocity_W(r.state, lambda);
+  r.angular_velocity = dynamics::angularVelocity_W(r.state);
+  return r;
+}
+
+std::vector<BodyStateReport> bodyStateReports(const Model& model, const Data& data) {
+  std::vector<BodyStateReport> out;
+  out.reserve(model.moving.size());
+  for (const MovingBody& m : model.moving) out.push_back(bodyStateReport(model, data, m.body));
+  return out;
+}
+
+std::vector<FramePose> movingFrames(const Model& model, const Data& data) {
+  std::vector<FramePose> out;
+  out.reserve(data.bodies.size());
+  for (std::size_t i = 0; i < data.bodies.size(); ++i) {
+    const scene::LinkFrame& root = model.bodyOf(static_cast<int>(i)).links.front();
+    out.push_back({model.config.world_frame, root.link,
+                   (data.bodies[i].state.M_WB * root.M_BL).toIsometry(model.lambda)});
+  }
+  return out;
+}
+
+std::vector<FramePose> staticFrames(const Model& model) {
+  std::vector<FramePose> out;
+  const double lambda = model.lambda;
+  for (const auto& b : model.scene.bodies) {
+    const scene::LinkFrame& root = b.links.front();
+    if (b.is_static)
+      out.push_back(
+          {model.config.world_frame, root.link, (b.M_WB0 * root.M_BL).toIsometry(lambda)});
+    // Link L relative to the root link R: M_RL = M_BR⁻¹ M_BL.
+    const cga::Motor M_RB = root.M_BL.reverse();
+    for (std::size_t li = 1; li < b.links.size(); ++li)
+      out.push_back({root.link, b.links[li].link, (M_RB * b.links[li].M_BL).toIsometry(lambda)});
+  }
+  return out;
+}
+
+std::string worldSummary(const Model& model, const Data& data) {
+  constexpr std::size_t kMaxListed = 20;  // one screen, as the scene summary
+  const auto& bodies = model.scene.bodies;
+  // The path of each body: the one its integrator took in the last step, "at-rest" if it was
+  // skipped, or before its first step the planned one (scene.h).
+  auto pathOf = [&](std::size_t j) -> std::string {
+    const int i = model.moving_of_body[j];
+    if (i < 0) return "static";
+    switch (data.bodies[i].last_path) {
+      case StepPath::kAtRest:
+        return "at-rest";
+      case StepPath::kStepped:
+        return data.bodies[i].integrator->path();
+      default:
+        return scene::plannedIntegratorPath(model.scene, bodies[j], model.config.integrator);
+    }
+  };
+  std::ostringstream os;
+  os.precision(6);
+  const auto& g = model.scene.gravity_W;
+  const double t = static_cast<double>(data.step_count) * model.config.dt;
+  os << "world: " << model.moving.size() << " moving, " << bodies.size() - model.moving.size()
+     << " static bodies; dt " << model.config.dt << " s, integrator '" << model.config.integrator
+     << "', lambda " << model.lambda << " m, gravity (" << g.x() << ", " << g.y() << ", " << g.z()
+     << ") m/s^2; step " << data.step_count << ", t " << t << " s\n";
+  std::map<std::string, std::size_t> count;  // ordered: deterministic output
+  for (std::size_t j = 0; j < bodies.size(); ++j) {
+    const std::string path = pathOf(j);
+    ++count[path];
+    if (j >= kMaxListed) continue;
+    const scene::BodyModel& b = bodies[j];
+    const int i = model.moving_of_body[j];
+    os << "  " << b.name << ": ";
+    if (i >= 0) {
+      const dynamics::Inertia& I = model.moving[i].inertia;
+      const Eigen::Vector3d& J = I.principalMoments();
+      os << dynamics::toString(I.inertiaClass()) << ", mass " << I.mass() << " kg, J (" << J.x()
+         << ", " << J.y() << ", " << J.z() << ") kg m^2, ";
+    }
+    os << "path " << path << ", links";
+    for (const auto& l : b.links) os << " " << l.link;
+    os << "\n";
+  }
+  if (bodies.size() > kMaxListed) os << "  ... and " << bodies.size() - kMaxListed << " more\n";
+  os << "paths:";
+  for (const auto& kv : count) os << " " << kv.first << " x" << kv.second;
+  os << "\n";
+  return os.str();
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

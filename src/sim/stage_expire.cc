@@ -1,0 +1,14 @@
+// Stage 4 of the step: wrenches whose last step was the one just done end; their loads drop
+// out at the next updateLoads.
+#include "cga_rigid_sim/sim/stages.h"
+#include "wrench_schedule.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+void expireInputs(const Model& /*model*/, Data& data) {
+  if (data.step_count >= data.next_expiry) expireWrenches(data, data.step_count);
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,131 @@
+#include "topology.h"
+
+#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "input_rules.h"
+#include "state_edit.h"
+#include "wrench_schedule.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+// The URDF's single moving body, renamed `name` (body and root link), or the refusal.
+// The loader's warnings (e.g. a relaxed inertia) are added to `warnings`.
+Result<scene::BodyModel> loadSpawnedBody(const Model& model, const std::string& name,
+                                         const std::string& urdf,
+                                         std::vector<std::string>& warnings) {
+  scene::SceneOptions options;
+  options.lambda = model.lambda;
+  options.gravity_W = model.scene.gravity_W;
+  options.world_frame = model.config.world_frame;
+  options.triangle_policy = model.config.triangle_policy;
+  const std::string source = "spawn_urdf '" + name + "'";
+  auto loaded = scene::loadUrdfString(urdf, source, options);
+  if (!loaded) return loaded.failure();
+  int moving = 0, fixed = 0;
+  for (const auto& b : loaded->bodies) (b.is_static ? fixed : moving) += 1;
+  if (moving != 1 || fixed != 0)
+    return Error(source, "",
+                 "the URDF must hold exactly one body, a moving one (it has " +
+                     std::to_string(moving) + " moving and " + std::to_string(fixed) + " static)");
+  scene::BodyModel body = loaded->bodies.front();
+  if (!body.inertia) return Error(source, "", "the body has no inertia");
+  // The body and its root link take the new name (body name = root link name).
+  body.name = name;
+  body.links.front().link = name;
+  for (std::size_t li = 0; li < body.links.size(); ++li) {
+    const std::string& link = body.links[li].link;
+    const auto owner = model.link_owner.find(link);
+    if (owner != model.link_owner.end())
+      return Error(source, "",
+                   "link '" + link + "' already exists in the world (body '" +
+                       model.scene.bodies[owner->second.first].name + "')");
+    for (std::size_t lj = 0; lj < li; ++lj)
+      if (body.links[lj].link == link)
+        return Error(
+            source, "",
+            "link '" + link + "' would appear twice (the root link is renamed '" + name + "')");
+    if (link == model.config.world_frame)
+      return Error(source, "", "link '" + link + "' has the name of the world frame");
+  }
+  warnings = loaded->warnings;
+  return body;
+}
+
+}  // namespace
+
+Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const std::string& urdf,
+                       const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,
+                       const Eigen::Vector3d& w_W) {
+  const std::string what = "spawn_urdf";
+  if (name.empty()) return Error(what, "name", "must not be empty");
+  if (name == model.config.world_frame)
+    return Error(what, "name", "'" + name + "' is the name of the world frame");
+  if (model.body_by_name.count(name))
+    return Error(what, "name", "body '" + name + "' already exists");
+  if (auto e = checkPose(what, pose_root)) return *e;
+  if (auto e = checkFinite(what, "linear_velocity", v_W)) return *e;
+  if (auto e = checkFinite(what, "angular_velocity", w_W)) return *e;
+  std::vector<std::string> warnings;
+  auto loaded = loadSpawnedBody(model, name, urdf, warnings);
+  if (!loaded) return loaded.failure();
+  scene::BodyModel body = std::move(loaded.value());
+  // The placement is its initial state for reset().
+  const dynamics::BodyState s0 =
+      placedState(body.links.front().M_BL, pose_root, v_W, w_W, model.lambda);
+  body.M_WB0 = s0.M_WB;
+  body.omega_B0 = s0.omega_B;
+
+  // Model and Data together; the data first, as it is the only part that can fail (for an
+  // unknown integrator, which compileModel refused).
+  auto b = makeBodyData(model, s0);
+  if (!b) return b.failure();
+  appendBody(model, std::move(body));
+  data.bodies.push_back(std::move(b.value()));
+  for (auto& w : warnings) model.scene.warnings.push_back(std::move(w));
+  data.dirty_list.reserve(data.bodies.size());
+  ++model.topology_version;
+  return true;
+}
+
+Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
+  const int j = model.findBody(body);
+  if (j < 0) return Error("delete_body", "body", "unknown body '" + body + "'");
+  const int i = model.moving_of_body[j];
+
+  // Data: its inputs go with it; moving indices after it shift down by one.
+  if (i >= 0) {
+    data.queue.removeBody(i);
+    removeActiveWrenchesOf(data, i);
+    std::size_t out = 0;
+    for (int d : data.dirty_list) {
+      if (d == i) continue;
+      data.dirty_list[out++] = d > i ? d - 1 : d;
+    }
+    data.dirty_list.resize(out);
+    data.bodies.erase(data.bodies.begin() + i);
+  }
+
+  // Model: names out, body indices after j and moving indices after i shift down by one.
+  for (const auto& l : model.scene.bodies[j].links) model.link_owner.erase(l.link);
+  model.body_by_name.erase(body);
+  model.scene.bodies.erase(model.scene.bodies.begin() + j);
+  model.parent.erase(model.parent.begin() + j);
+  model.moving_of_body.erase(model.moving_of_body.begin() + j);
+  if (i >= 0) model.moving.erase(model.moving.begin() + i);
+  for (auto& m : model.moving_of_body)
+    if (i >= 0 && m > i) --m;
+  for (auto& m : model.moving)
+    if (m.body > j) --m.body;
+  for (auto& p : model.parent)
+    if (p > j) --p;
+  for (auto& kv : model.body_by_name)
+    if (kv.second > j) --kv.second;
+  for (auto& kv : model.link_owner)
+    if (kv.second.first > j) --kv.second.first;
+  ++model.topology_version;
+  return true;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
