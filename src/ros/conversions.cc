@@ -172,10 +172,11 @@ Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
   return in;
 }
 
-std::string toMessageFieldNames(const std::string& core_error, const std::string& topic) {
-  // (core input name, core field, message field)
+std::string refusalText(const Error& core, const std::string& topic) {
+  if (core.input.empty()) return core.message();
+  // (topic, core field, message field); fields not listed keep their name.
   struct Rename {
-    const char* input;
+    const char* topic;
     const char* field;
     const char* message_field;
   };
@@ -187,26 +188,20 @@ std::string toMessageFieldNames(const std::string& core_error, const std::string
       {"apply_impulse", "angular", "torque"},
       {"apply_impulse", "start_time", "header.stamp"},
       {"apply_impulse", "frame", "header.frame_id"},
+      {"wrench", "f", "wrench.force"},
+      {"wrench", "couple", "wrench.torque"},
+      {"wrench", "start_time", "header.stamp"},
+      {"wrench", "frame", "header.frame_id"},
+      {"wrench", "body", "header.frame_id"},
   };
-  static const Rename kPlainWrench[] = {
-      {"apply_wrench", "f", "wrench.force"},          {"apply_wrench", "couple", "wrench.torque"},
-      {"apply_wrench", "start_time", "header.stamp"}, {"apply_wrench", "frame", "header.frame_id"},
-      {"apply_wrench", "body", "header.frame_id"},
-  };
-  const bool plain = topic == "wrench";
-  const std::string input = plain ? "apply_wrench" : topic;
-  const std::string prefix = input + ".";
-  if (core_error.compare(0, prefix.size(), prefix) != 0) return core_error;
-  // The field runs to the next '.', ':' or ' '.
-  const std::size_t start = prefix.size();
-  const std::size_t end = std::min(core_error.find_first_of(".: ", start), core_error.size());
-  const std::string field = core_error.substr(start, end - start);
-  std::string renamed = field;
-  const Rename* first = plain ? std::begin(kPlainWrench) : std::begin(kRenames);
-  const Rename* last = plain ? std::end(kPlainWrench) : std::end(kRenames);
-  for (const Rename* r = first; r != last; ++r)
-    if (input == r->input && field == r->field) renamed = r->message_field;
-  return topic + "." + renamed + core_error.substr(end);
+  // The field's first name is renamed; a sub-field (".x") stays.
+  const std::size_t dot = core.field.find('.');
+  const std::string head = core.field.substr(0, dot);
+  const std::string rest = dot == std::string::npos ? "" : core.field.substr(dot);
+  std::string renamed = head;
+  for (const Rename& r : kRenames)
+    if (topic == r.topic && head == r.field) renamed = r.message_field;
+  return topic + "." + renamed + rest + ": " + core.rule;
 }
 
 Result<PoseTwist> toPoseTwist(const geometry_msgs::Pose& pose, const geometry_msgs::Twist& twist,

@@ -82,15 +82,16 @@ int Simulator::run() {
   publishStaticFrames();
   publishClock();
   publishOutputs();
-  logInfoLines(world_->summary());
   const std::string clock = !params_.publish_clock ? "off"
                             : params_.clock_rate > 0.0
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
                                 : "every step";
-  ROS_INFO("simulator: real_time_factor %g%s; tf, momentum and body states at %g Hz; /clock %s%s",
-           params_.real_time_factor,
-           params_.real_time_factor == 0.0 ? " (as fast as possible)" : "", params_.publish_rate,
-           clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
+  ROS_INFO(
+      "simulator: dt %g s; real_time_factor %g%s; tf, momentum and body states at %g Hz; "
+      "/clock %s%s",
+      world_->config().dt, params_.real_time_factor,
+      params_.real_time_factor == 0.0 ? " (as fast as possible)" : "", params_.publish_rate,
+      clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
@@ -241,21 +242,21 @@ void Simulator::onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg) {
   auto in = toWrenchInput(*msg, world_->config().world_frame, "apply_wrench");
   if (!in) return refuse("apply_wrench", in.error());
   auto ok = world_->applyWrench(*in);
-  if (!ok) refuse("apply_wrench", toMessageFieldNames(ok.error(), "apply_wrench"));
+  if (!ok) refuse("apply_wrench", refusalText(ok.failure(), "apply_wrench"));
 }
 
 void Simulator::onApplyImpulse(const cga_rigid_sim::CgaImpulse::ConstPtr& msg) {
   auto in = toImpulseInput(*msg, world_->config().world_frame, "apply_impulse");
   if (!in) return refuse("apply_impulse", in.error());
   auto ok = world_->applyImpulse(*in);
-  if (!ok) refuse("apply_impulse", toMessageFieldNames(ok.error(), "apply_impulse"));
+  if (!ok) refuse("apply_impulse", refusalText(ok.failure(), "apply_impulse"));
 }
 
 void Simulator::onWrench(const geometry_msgs::WrenchStamped::ConstPtr& msg) {
   auto in = toWrenchInput(*msg, world_->scene(), "wrench");
   if (!in) return refuse("wrench", in.error());
   auto ok = world_->applyWrench(*in);
-  if (!ok) refuse("wrench", toMessageFieldNames(ok.error(), "wrench"));
+  if (!ok) refuse("wrench", refusalText(ok.failure(), "wrench"));
 }
 
 // ---- services ----
@@ -313,7 +314,7 @@ bool Simulator::onSetBodyState(cga_rigid_sim::SetBodyState::Request& req,
                                cga_rigid_sim::SetBodyState::Response& res) {
   auto in = toPoseTwist(req.state.pose, req.state.twist, "set_body_state.state");
   auto ok = in ? world_->setBodyState(req.state.name, in->pose_root, in->linear_W, in->angular_W)
-               : Result<bool>(Error{in.error()});
+               : Result<bool>(in.failure());
   res.success = ok.ok();
   if (!ok) {
     res.message = ok.error();
@@ -326,7 +327,7 @@ bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
                             cga_rigid_sim::SpawnUrdf::Response& res) {
   auto in = toPoseTwist(req.pose, req.twist, "spawn_urdf");
   auto ok = in ? world_->spawnUrdf(req.name, req.urdf, in->pose_root, in->linear_W, in->angular_W)
-               : Result<bool>(Error{in.error()});
+               : Result<bool>(in.failure());
   res.success = ok.ok();
   markDisturbed();
   if (!ok) {

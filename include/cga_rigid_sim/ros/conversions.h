@@ -83,12 +83,13 @@ Result<sim::ImpulseInput> toImpulseInput(const cga_rigid_sim::CgaImpulse& msg,
 Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
                                        const scene::Scene& scene, const std::string& topic);
 
-/// World's refusals name the core's fields (sim/inputs.h: "apply_impulse.J: ...",
-/// "apply_wrench.couple", "start_time", "frame"); this rewrites the leading field to the
-/// message's own ("apply_impulse.f", "apply_wrench.torque", "header.stamp", "header.frame_id";
-/// for the plain `wrench` topic "wrench.wrench.force", …) so the user reads the field they sent.
-/// `topic` is "apply_wrench", "apply_impulse" or "wrench"; other text is left as it is.
-std::string toMessageFieldNames(const std::string& core_error, const std::string& topic);
+/// The text of a World refusal as the user of `topic` reads it. The core's Error names its
+/// own input and fields (sim/inputs.h: apply_impulse.J, apply_wrench.couple, start_time,
+/// frame); this names the topic and the message's own field instead (apply_impulse.f,
+/// apply_wrench.torque, header.stamp, header.frame_id; for the plain `wrench` topic
+/// wrench.wrench.force, …), keeping the sub-field (".x") and the rule. `topic` is
+/// "apply_wrench", "apply_impulse" or "wrench"; an Error without input is its message.
+std::string refusalText(const Error& core, const std::string& topic);
 
 /// What set_body_state and spawn_urdf carry: the root link's pose and the velocities of the
 /// centre of mass and the angular velocity, world axes.
