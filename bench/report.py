@@ -1,13 +1,13 @@
 #!/usr/bin/python3
-"""Generate docs/benchmarks.md and its diagrams from the benchmark CSVs in bench/out/.
+"""Generate doc/benchmarks.md and its diagrams from the benchmark CSVs in bench/out/.
 
-    /usr/bin/python3 bench/report.py [--out bench/out] [--docs docs] [--no-plots]
+    /usr/bin/python3 bench/report.py [--out bench/out] [--doc doc] [--no-plots]
 
 Reads (whatever exists): ours.csv and peers_<engine>.csv (work-precision), cases.csv (case
 facts and conditioning floors), scaling.csv, node_throughput.csv, peers_versions.txt,
 environment.txt (written by scripts/bench.sh), and bench/target_notes.md (the hand-written
-analysis of missed targets). Writes docs/benchmarks.md and the PNGs under docs/img/ (gnuplot,
-pngcairo). Standard library only.
+analysis of missed targets). Writes doc/benchmarks.md and the PNGs under doc/img/ (gnuplot,
+pngcairo; the markdown links them as img/<name>.png, relative to doc/). Standard library only.
 """
 
 import argparse
@@ -631,7 +631,7 @@ def case_section(rows, cases, case, img_dir, img_rel, plots):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
-    ap.add_argument("--docs", default=os.path.join(ROOT, "docs"))
+    ap.add_argument("--doc", default=os.path.join(ROOT, "doc"))
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
                     help="ns from wall time (default) or from the thread-CPU side files "
@@ -654,7 +654,7 @@ def main():
     node = read_csv(os.path.join(args.out, "node_throughput.csv"))
     notes = read_notes(os.path.join(ROOT, "bench", "target_notes.md"))
     env = environment(args.out)
-    img_dir = os.path.join(args.docs, "img")
+    img_dir = os.path.join(args.doc, "img")
     plots = not args.no_plots and gnuplot_available()
     if not args.no_plots and not plots:
         print("report.py: gnuplot not found: no diagrams (install gnuplot-nox)", file=sys.stderr)
@@ -823,8 +823,8 @@ def main():
     if not node:
         doc += ["Not measured (no `bench/out/node_throughput.csv`).", ""]
 
-    os.makedirs(args.docs, exist_ok=True)
-    path = os.path.join(args.docs, "benchmarks.md")
+    os.makedirs(args.doc, exist_ok=True)
+    path = os.path.join(args.doc, "benchmarks.md")
     with open(path, "w") as f:
         f.write("\n".join(doc).rstrip() + "\n")
     print("report.py: wrote %s%s" % (path, " and diagrams in " + img_dir if plots else ""))

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerate every benchmark result, docs/benchmarks.md and its diagrams (docs/img/).
+# Regenerate every benchmark result, doc/benchmarks.md and its diagrams (doc/img/).
 #
 #   scripts/bench.sh [--no-install] [--no-build] [--no-peers] [--no-node] [--quick] [--cpu-time]
 #
@@ -8,7 +8,7 @@
 # our work-precision sweep, the scaling sweep and the node throughput, then bench/report.py.
 # The parts run one after another (the peers' driver itself runs two runners at a time, one
 # per core). Raw results go to bench/out/ (git-ignored). Budget: 15 minutes on 2 cores (the
-# measured time is printed at the end and recorded in docs/benchmarks.md). The ns figures are
+# measured time is printed at the end and recorded in doc/benchmarks.md). The ns figures are
 # only meaningful on an otherwise idle machine; on a busy one, --cpu-time makes the report use
 # the thread-CPU times every runner also records. --quick runs a reduced sweep (three steps, one
 # repetition) to check the pipeline.
@@ -115,4 +115,4 @@ echo "bench_duration: $((elapsed / 60)) min $((elapsed % 60)) s (scripts/bench.s
   "at the end $load_end)" >> "$out/environment.txt"
 stamp "report"
 /usr/bin/python3 bench/report.py --out "$out" --clock "$clock"
-stamp "done: docs/benchmarks.md, docs/img/*.png (raw results in bench/out/)"
+stamp "done: doc/benchmarks.md, doc/img/*.png (raw results in bench/out/)"

@@ -410,9 +410,9 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //    Π(ν; φ) − F(φ) = (ν/3) sin³φ R_J(cos²φ, dn², 1, 1 − ν sin²φ) (|φ| ≤ π/2) and F(am τ) = τ:
 //      n:  ψ = (ℓ/J_a) t + β (n/3) sn³ R_J(cn², dn², 1, 1 − n sn²) − γ Θ   ((α + β) ω_p = ℓ/J_a),
 //      N:  ψ = (ℓ/J_c) t − β (N/3) sn³ R_J(cn², dn², 1, 1 − N sn²) + γ Φ.
-//    In both, the linear part is taken from the elapsed time, not from the phase, and the rest
-//    (g below) has coefficients that stay bounded where ω_p → 0 (β ν and γ do). Checked against
-//    a compensated RK4 for (J2 − J1)/J1 down to 1e-11, both polhode orientations: 1e-15.
+//    In both, the linear part advances with time (rate·h per step), not with the phase, and the
+//    rest (g below) has coefficients that stay bounded where ω_p → 0 (β ν and γ do). Checked
+//    against a compensated RK4 for (J2 − J1)/J1 down to 1e-11, both polhode orientations: 1e-15.
 //
 // 4. Evaluation without drift. Split τ = 2K m + τ_r, τ_r ∈ [−K, K]. Then am τ = mπ + am τ_r,
 //    sn and cn change sign m times (tracked by ρ), Π(ν; am τ) − F = 2m (Π(ν) − K) +
@@ -442,7 +442,7 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //    phase); at the threshold that is below 1e-9 after 1e3 rad of rotation.
 //
 // Symmetric and spherical bodies use the closed forms of free_flow.h, with their angles likewise
-// accumulated from the elapsed time and reduced, and w_B rebuilt from w_B(0) each step.
+// accumulated step by step (rate·h, β h) and reduced, and w_B rebuilt from w_B(0) each step.
 // The centre of mass: v_W = R v_B is constant, x_W += h v_W, v_B = R(t + h)ᵀ v_W; the motor is
 // rebuilt in closed form as M = T(x_W) R.
 void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& state,

@@ -3,7 +3,8 @@
 // Poses are given for the root link R (the frame users know from the URDF); the scene keeps the
 // body frame B (centre of mass, principal axes), related by the constant M_BR (the root link's
 // LinkFrame). So M_WB = M_WR M_BR⁻¹. Velocities are given in world or root link axes and stored
-// as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W (cga.md).
+// as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W
+// (doc/conventions.md (E6)).
 #include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>

@@ -41,8 +41,8 @@ MassProperties sphereMassProperties(double radius, double density) {
   return p;
 }
 
-// Derivation (rigid-body-simulation-notes.txt, "Surface Integral via Divergence Theorem", in our
-// words). We need V = ∫dV, the first moments ∫x dV and the second moments ∫x xᵀ dV of the solid.
+// Derivation (summarised in doc/conventions.md#mass-properties, (E25)). We need V = ∫dV, the
+// first moments ∫x dV and the second moments ∫x xᵀ dV of the solid.
 // For f homogeneous of degree k, div(f x) = (3 + k) f, so by the divergence theorem
 //   ∫_V f dV = 1/(3 + k) ∮ f (x·n) dA.
 // On a flat triangle T = (a, b, c) with N = (b − a)×(c − a) (|N| = 2 area, outward), x·n is the

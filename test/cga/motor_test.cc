@@ -51,7 +51,7 @@ TEST(MotorVsReference, ProductEqualsGeometricProduct) {
     }
 }
 
-// Truth: the reference reverse; and M M̃ = 1 for a unit motor (cga.md).
+// Truth: the reference reverse; and M M̃ = 1 for a unit motor (doc/conventions.md (E4)).
 TEST(MotorVsReference, ReverseAndUnitNorm) {
   Rng rng(2);
   for (int i = 0; i < kSamples; ++i) {
@@ -65,7 +65,8 @@ TEST(MotorVsReference, ReverseAndUnitNorm) {
   }
 }
 
-// Truth: T X(x) T̃ = X(x + a) and R X(x) R̃ = X(R x) in the reference algebra (cga.md);
+// Truth: T X(x) T̃ = X(x + a) and R X(x) R̃ = X(R x) in the reference algebra
+// (doc/conventions.md (E2), (E3));
 // Motor::transformPoint must give the same null vector.
 TEST(MotorVsReference, ActionOnPoints) {
   Rng rng(3);
@@ -93,7 +94,7 @@ TEST(MotorVsReference, ActionOnForceVectors) {
       const Multivector ref = toMV(M) * toMV(F) * toMV(M).reverse();
       ASSERT_LT(relDiff(ref, toMV(M.apply(F, lambda))), 2048 * kEps) << "sample " << i;
       ASSERT_LT((M.transformVector(f) - M.rotation() * f).norm(), 8 * kEps * f.norm());
-      // Motors fix n (cga.md).
+      // Motors fix n (doc/conventions.md#translators-and-rotors).
       ASSERT_LT(relDiff(toMV(M) * Multivector::n() * toMV(M).reverse(), Multivector::n()),
                 512 * kEps);
     }
@@ -124,7 +125,7 @@ TEST(ExpVsReference, ClosedFormEqualsSeries) {
 
 // Truth: exp(log M) = ±M (log is exp's inverse up to the double cover: M and −M are the same
 // motion); log(exp B) = B for rotation half-angles < π/2. Round trip to 1e-14 relative (the
-// issue's bound), relative to the motor's largest coefficient.
+// required bound), relative to the motor's largest coefficient.
 TEST(ExpLog, RoundTripRandom) {
   Rng rng(7);
   for (double lambda : kLambdas)
@@ -177,7 +178,8 @@ TEST(ExpLog, Edges) {
   EXPECT_EQ(Z.rot.norm() + Z.trans.norm(), 0.0);
 }
 
-// Truth: the rotation sense of cga.md — R = exp(−½θ e1e2) rotates e1 towards e2 (about +e3).
+// Truth: the rotation sense of doc/conventions.md (E3) — R = exp(−½θ e1e2) rotates e1 towards
+// e2 (about +e3).
 TEST(Motor, RotationSense) {
   const double theta = 0.3;
   const Motor R =
@@ -191,10 +193,10 @@ TEST(Motor, RotationSense) {
   EXPECT_LT(relDiff(toMV(R), Rref), 2 * kEps);
 }
 
-// Truth: the kinematics of cga.md, Ṁ = −½ M Ω_B with Ω_B = I3 w + (1/λ) v∧n: along the curve
-// M(t) = M0 exp(−½ t Ω), the centre moves with world velocity R v and the attitude turns with
-// body angular velocity w. Central differences at step 1e-5 have truncation error ~1e-10·|Ω|³;
-// we allow 1e-8.
+// Truth: the kinematics of doc/conventions.md (E5)-(E6), Ṁ = −½ M Ω_B with Ω_B = I3 w + (1/λ) v∧n:
+// along the curve M(t) = M0 exp(−½ t Ω), the centre moves with world velocity R v and the attitude
+// turns with body angular velocity w. Central differences at step 1e-5 have truncation error
+// ~1e-10·|Ω|³; we allow 1e-8.
 TEST(Motor, KinematicsMatchVelocitySplit) {
   Rng rng(8);
   for (double lambda : kLambdas)
@@ -245,7 +247,8 @@ TEST(Motor, RenormalisationRemovesDrift) {
   }
 }
 
-// Truth: the point identities of cga.md on the hot-path Point's null-vector coefficients:
+// Truth: the point identities (E1) of doc/conventions.md on the hot-path Point's null-vector
+// coefficients:
 // X² = 0 and X·n = −1, with n = e + ē, n̄ = e − ē written out in the reference.
 TEST(Point, NullVectorIdentities) {
   Rng rng(11);

@@ -1,6 +1,6 @@
 // Tests of the reference algebra Cl(4,1) itself, against facts that do not depend on it: the
 // signature, textbook identities of geometric algebra, and the point/motion identities of
-// cga.md checked against Eigen's Euclidean geometry.
+// doc/conventions.md checked against Eigen's Euclidean geometry.
 //
 // Tolerances. ε is machine epsilon and ‖·‖ the coefficient 2-norm (Multivector::norm2).
 // - One geometric product: each coefficient of ab is a sum of 32 terms ±a_i b_{i^c}. Higham's
@@ -83,18 +83,19 @@ Eigen::Vector3d randomPosition(std::mt19937* rng) {
 // A Euclidean vector x as the grade-1 element x1 e1 + x2 e2 + x3 e3.
 MV euclidean(const Eigen::Vector3d& x) { return MV::vector(x.x(), x.y(), x.z(), 0.0, 0.0); }
 
-// cga.md: X(x) = (x² n + 2λx − λ² n̄) / (2λ²).
+// doc/conventions.md (E1): X(x) = (x² n + 2λx − λ² n̄) / (2λ²).
 MV point(const Eigen::Vector3d& x, double lambda) {
   return (x.squaredNorm() * MV::n() + 2.0 * lambda * euclidean(x) - lambda * lambda * MV::nbar()) /
          (2.0 * lambda * lambda);
 }
 
-// cga.md: T(a) = 1 + n a / (2λ).
+// doc/conventions.md (E2): T(a) = 1 + n a / (2λ).
 MV translator(const Eigen::Vector3d& a, double lambda) {
   return 1.0 + MV::n() * euclidean(a) / (2.0 * lambda);
 }
 
-// cga.md: R = exp(−θB/2) = cos(θ/2) − sin(θ/2) B for a unit bivector B of 3-space (B² = −1).
+// doc/conventions.md (E3): R = exp(−θB/2) = cos(θ/2) − sin(θ/2) B for a unit bivector B of
+// 3-space (B² = −1).
 MV rotor(const MV& B, double theta) { return std::cos(theta / 2) - std::sin(theta / 2) * B; }
 
 // The unit bivector of the plane normal to the unit vector u: B = I3 u (I3 e3 = e1e2).
@@ -102,8 +103,8 @@ MV planeOf(const Eigen::Vector3d& u) { return MV::I3() * euclidean(u); }
 
 const double kLambdas[] = {1.0, 7.3};
 
-// Truth: the signature (4,1) of cga.md: e1² = e2² = e3² = e² = +1, ē² = −1. Products of two
-// basis vectors with one nonzero coefficient are exact, hence tolerance 0.
+// Truth: the signature (4,1) of doc/conventions.md#algebra: e1² = e2² = e3² = e² = +1, ē² = −1.
+// Products of two basis vectors with one nonzero coefficient are exact, hence tolerance 0.
 TEST(MultivectorTest, BasisVectorSquares) {
   const MV basis[] = {MV::e1(), MV::e2(), MV::e3(), MV::e(), MV::ebar()};
   const double squares[] = {+1, +1, +1, +1, -1};
@@ -169,8 +170,8 @@ TEST(MultivectorTest, OuterProductIsAssociativeAndAlternating) {
   }
 }
 
-// Truth: cga.md's null basis: n² = n̄² = 0, n·n̄ = 2 (Hestenes inner product), and
-// E = e∧ē = ½ n̄∧n (doc/architecture.md). Coefficients 0 and ±1: all exact, tolerance 0.
+// Truth: the null basis of doc/conventions.md#algebra: n² = n̄² = 0, n·n̄ = 2 (Hestenes inner
+// product), and E = e∧ē = ½ n̄∧n. Coefficients 0 and ±1: all exact, tolerance 0.
 TEST(MultivectorTest, NullBasis) {
   const MV n = MV::n();
   const MV nbar = MV::nbar();
@@ -257,8 +258,9 @@ TEST(MultivectorTest, GradeProjectionsSumBack) {
   EXPECT_EQ(maxAbsDiff(a.grade(-1), MV()), 0.0);
 }
 
-// Truth: Hestenes' inner product vanishes when either side is a scalar (cga.md); the left
-// contraction of a scalar s is s·B. Exact (no product is formed, or one scalar scaling).
+// Truth: Hestenes' inner product vanishes when either side is a scalar
+// (doc/conventions.md#algebra); the left contraction of a scalar s is s·B. Exact (no product is
+// formed, or one scalar scaling).
 TEST(MultivectorTest, InnerProductWithScalarIsZero) {
   std::mt19937 rng(6);
   const MV a = randomMultivector(&rng);
@@ -268,7 +270,8 @@ TEST(MultivectorTest, InnerProductWithScalarIsZero) {
   EXPECT_EQ(maxAbsDiff(leftContract(s, a), 2.5 * a), 0.0);
 }
 
-// Truth: cga.md: X(x)² = 0 and X·n = −1 for every x and λ, and the origin is X(0) = −n̄/2.
+// Truth: doc/conventions.md (E1): X(x)² = 0 and X·n = −1 for every x and λ, and the origin is
+// X(0) = −n̄/2.
 // Random x in [−3, 3]³ m (seed 7); X² is a product of two inputs: chainTol({‖X‖, ‖X‖}).
 TEST(MultivectorTest, PointsAreNullAndNormalised) {
   std::mt19937 rng(7);
@@ -284,8 +287,9 @@ TEST(MultivectorTest, PointsAreNullAndNormalised) {
   }
 }
 
-// Truth: cga.md: T(a) X(x) T̃(a) = X(x + a), with x + a computed in Euclidean space. Three
-// factors, plus the rounding of the reference point: chainTol({T, X, T}) + ρ‖X(x + a)‖.
+// Truth: doc/conventions.md (E2): T(a) X(x) T̃(a) = X(x + a), with x + a computed in Euclidean
+// space. Three factors, plus the rounding of the reference point:
+// chainTol({T, X, T}) + ρ‖X(x + a)‖.
 TEST(MultivectorTest, TranslatorMovesPoints) {
   std::mt19937 rng(8);
   for (double lambda : kLambdas) {
@@ -302,9 +306,9 @@ TEST(MultivectorTest, TranslatorMovesPoints) {
   }
 }
 
-// Truth: cga.md's sign check: for B = e1e2, R = exp(−θB/2) rotates e1 towards e2, i.e. about
-// +e3: R e1 R̃ = cos θ e1 + sin θ e2 (and e3 is fixed). Three factors of norm ≈ 1, plus an ulp
-// in each of cos θ, sin θ on the reference side.
+// Truth: the sign check of doc/conventions.md (E3): for B = e1e2, R = exp(−θB/2) rotates e1
+// towards e2, i.e. about +e3: R e1 R̃ = cos θ e1 + sin θ e2 (and e3 is fixed). Three factors of
+// norm ≈ 1, plus an ulp in each of cos θ, sin θ on the reference side.
 TEST(MultivectorTest, RotorRotatesE1TowardsE2) {
   const MV B = MV::e1() * MV::e2();
   for (double theta : {0.3, 1.0, 2.5, -0.7}) {
@@ -320,11 +324,11 @@ TEST(MultivectorTest, RotorRotatesE1TowardsE2) {
   }
 }
 
-// Truth: cga.md: R X(x) R̃ = X(R x) for R = exp(−θB/2), B = I3 u; the reference rotation is
-// Eigen's AngleAxis(θ, u) (right-handed about u). Random unit u, θ ∈ [−π, π], x ∈ [−3, 3]³ m
-// (seed 9). Three factors; the reference point carries its own rounding (ρ) and the rotation's
-// few roundings of x (relative ≤ ρ), which reach X amplified by at most 2.3 (‖dX‖/‖X‖ over
-// |dx|/|x|, maximised over |x|/λ), so we allow 4ρ‖X(Rx)‖.
+// Truth: doc/conventions.md (E3): R X(x) R̃ = X(R x) for R = exp(−θB/2), B = I3 u; the reference
+// rotation is Eigen's AngleAxis(θ, u) (right-handed about u). Random unit u, θ ∈ [−π, π],
+// x ∈ [−3, 3]³ m (seed 9). Three factors; the reference point carries its own rounding (ρ) and the
+// rotation's few roundings of x (relative ≤ ρ), which reach X amplified by at most 2.3 (‖dX‖/‖X‖
+// over |dx|/|x|, maximised over |x|/λ), so we allow 4ρ‖X(Rx)‖.
 TEST(MultivectorTest, RotorMapsPoints) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> angle(-kPi, kPi);
@@ -345,8 +349,9 @@ TEST(MultivectorTest, RotorMapsPoints) {
   }
 }
 
-// Truth: cga.md: motors fix the point at infinity, M n M̃ = n, for M = T(a) R. The product
-// (T R) n (T R)~ has five factors T, R, n, R̃, T̃ in the chainTol sense.
+// Truth: doc/conventions.md#translators-and-rotors: motors fix the point at infinity,
+// M n M̃ = n, for M = T(a) R. The product (T R) n (T R)~ has five factors T, R, n, R̃, T̃ in the
+// chainTol sense.
 TEST(MultivectorTest, MotorsFixInfinity) {
   std::mt19937 rng(10);
   std::uniform_real_distribution<double> angle(-kPi, kPi);
@@ -363,7 +368,8 @@ TEST(MultivectorTest, MotorsFixInfinity) {
   }
 }
 
-// Truth: the Taylor series of exp (a third opinion) against the closed forms of cga.md:
+// Truth: the Taylor series of exp (a third opinion) against the closed forms (E2), (E3) of
+// doc/conventions.md:
 // exp(−θB/2) = cos(θ/2) − sin(θ/2)B for B² = −1, and exp(n a/(2λ)) = 1 + n a/(2λ) since
 // (n a)² = 0. Tolerance: seriesTol (round-off and truncation of the series) plus the closed
 // form's input rounding.

@@ -1,7 +1,7 @@
 // The hot-path value types written out as full Cl(4,1) multivectors, so tests can compare every
 // operation with the reference algebra. Each function spells the blade sum of the type's
-// documented coefficient order (doc/architecture.md) with the reference's own products, so
-// nothing here shares code with the hot path.
+// documented coefficient order (doc/conventions.md#blade-orders) with the reference's own
+// products, so nothing here shares code with the hot path.
 #pragma once
 
 #include <Eigen/Core>
@@ -52,7 +52,7 @@ inline Multivector toMV(const cga::Moment& T) {
 }
 /// F = f + α n.
 inline Multivector toMV(const cga::Force& F) { return euclid(F.f) + F.alpha * Multivector::n(); }
-/// X(x) = (x² n + 2λx − λ² n̄) / (2λ²), cga.md's point.
+/// X(x) = (x² n + 2λx − λ² n̄) / (2λ²), the point of doc/conventions.md (E1).
 inline Multivector pointMV(const Eigen::Vector3d& x, double lambda) {
   return (x.squaredNorm() * Multivector::n() + 2.0 * lambda * euclid(x) -
           lambda * lambda * Multivector::nbar()) /

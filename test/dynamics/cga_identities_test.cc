@@ -1,6 +1,6 @@
-// The identities of cga.md that tie the hot-path dynamics to the algebra, checked against the
-// 32-blade reference on a body made of point masses (so I(Ω) = λ² Σ m X∧(X·Ω) is computed from
-// its definition, third moments and all):
+// The identities of doc/conventions.md that tie the hot-path dynamics to the algebra, checked
+// against the 32-blade reference on a body made of point masses (so I(Ω) = λ² Σ m X∧(X·Ω) is
+// computed from its definition, third moments and all):
 //   - the moment of a force: (M̃ (λ X_c∧F) M)∧n = (x∧f)∧n − (λ/2) n̄∧f∧n = Moment::ofForceAt;
 //   - α drops out of it exactly;
 //   - I(Ω)∧n = Inertia::apply(Ω) (the 6×6 map: mass and J only);
@@ -78,7 +78,7 @@ TEST(CgaIdentities, MomentOfForceAndAlphaDropsOut) {
       const Multivector Xc = toMV(M) * pointMV(x_B, lambda) * toMV(M).reverse();
       const Eigen::Vector3d f_B = M.rotation().conjugate() * f_W;
       const Moment expected = Moment::ofForceAt(f_B, x_B, lambda);
-      // cga.md's closed form (x∧f)∧n − (λ/2) n̄∧f∧n, written in the reference.
+      // The closed form (E13) (x∧f)∧n − (λ/2) n̄∧f∧n, written in the reference.
       const Multivector n = Multivector::n(), nbar = Multivector::nbar();
       const Multivector closed = ((testing::euclid(x_B) ^ testing::euclid(f_B)) ^ n) -
                                  (lambda / 2) * ((nbar ^ testing::euclid(f_B)) ^ n);

@@ -131,8 +131,8 @@ Rk4Diff compareWithRk4(const Eigen::Vector3d& J_principal, const Eigen::Vector3d
 // t (one fresh exactFreeFlow call per evaluation). Tolerance: near a crossing w2 changes at
 // |ẇ2| ≈ 2 rad/s², so bisection locates it to the round-off of w2 over the 40 s run
 // (~100 ε |w| / |ẇ2| ≈ 1e-14 s), and K(k) at k'² = 5e-5 is accurate to ~1e-15 (Boost promotes
-// to long double); the period (≈ 22 s) is then good to ~1e-14 relative. 1e-9 is the brief's
-// requirement, far above both.
+// to long double); the period (≈ 22 s) is then good to ~1e-14 relative. 1e-9 is the required
+// accuracy, far above both.
 TEST(ExactFreeFlow, TennisRacketFlipPeriodMatchesEllipticPeriod) {
   const Eigen::Vector3d J(1.0, 2.0, 3.0);
   const Eigen::Vector3d w0(0.01, 2.0, 0.01);
@@ -195,7 +195,7 @@ TEST(ExactFreeFlow, TennisRacketFlipPeriodMatchesEllipticPeriod) {
 // Truth: the flow is a one-parameter group, so N steps of h must equal one step of N h.
 // Tolerance: both are evaluated from the same closed form; they differ by the round-off of the
 // accumulated phase and angles, ≤ a few ε per radian turned (≤ 10⁴ rad here: 2.3 rad/s × 100 s
-// at h = 10), i.e. ≲ 1e-12 relative; 1e-12 as the brief asks.
+// at h = 10), i.e. ≲ 1e-12 relative; 1e-12 is the required accuracy.
 TEST(ExactFreeFlow, NStepsEqualOneLongStep) {
   struct Case {
     const char* name;
@@ -274,7 +274,7 @@ TEST(ExactFreeFlow, ConservesWorldAngularMomentumAndEnergy) {
 
 // ---- RK4 cross-checks -----------------------------------------------------------------------
 // Truth: the classical RK4 above at h = 1e-5 over 1 s. Its truncation error is ~(|w| h)⁴ |w| t
-// ≈ 1e-18 and its round-off (compensated) ~1e-15, so 1e-9 is the brief's margin, not a fit.
+// ≈ 1e-18 and its round-off (compensated) ~1e-15, so 1e-9 is the required margin, not a fit.
 TEST(ExactFreeFlow, SymmetricTopMatchesRk4) {
   for (const Eigen::Vector3d& J :
        {Eigen::Vector3d(2.0, 2.0, 3.0), Eigen::Vector3d(3.0, 3.0, 1.0)}) {
@@ -368,7 +368,8 @@ TEST(ExactFreeFlow, SeparatrixAndNearSymmetricStatesStayExact) {
 }
 
 // ---- The CGA conventions -----------------------------------------------------------------------
-// Truth: cga.md's kinematics Ω_B = −2 M̃ Ṁ, i.e. M(t + δ) = M(t) exp(−½ δ Ω_B) to first order.
+// Truth: the kinematics (E5) of doc/conventions.md, Ω_B = −2 M̃ Ṁ, i.e.
+// M(t + δ) = M(t) exp(−½ δ Ω_B) to first order.
 // The flow's motor over a short step, read back through the algebra's own logarithm,
 // −(2/δ) log(M̃(t) M(t + δ)), must equal Ω_B at the midpoint t + δ/2 (a symmetric difference:
 // error ≈ δ² |Ω̈|/24 ≈ 3e-10 relative at δ = 3e-5 and |w| ≈ 2 rad/s, plus the round-off of the
@@ -414,8 +415,8 @@ TEST(ExactFreeFlow, CacheIsRebuiltWhenTheStateChanges) {
   EXPECT_EQ(a.omega_B.coefficients(), b.omega_B.coefficients());
 }
 
-// Truth (cga.md): results do not depend on λ beyond round-off. 1e-12 relative as cga.md asks;
-// the λ-dependent parts are one scaling of v and of the motor's dual part per step.
+// Truth (doc/conventions.md#length-scale-lambda): results do not depend on λ beyond round-off,
+// 1e-12 relative; the λ-dependent parts are one scaling of v and of the motor's dual part per step.
 TEST(ExactFreeFlow, IndependentOfLambda) {
   const Inertia I = principal({1.0, 2.0, 3.0});
   std::mt19937 rng(4);
@@ -462,7 +463,7 @@ TEST(ExactIntegrator, MujocoBoxKeepsKineticEnergy) {
 
 // Truth: under uniform gravity alone the centre of mass follows x0 + v0 t + ½ g t² whatever the
 // spin (kick–drift–kick is exact for a constant acceleration). Tolerance: each step rounds x and
-// v once (a few ε relative), 1000 steps: ~1e-13; 1e-12 relative as the brief asks.
+// v once (a few ε relative), 1000 steps: ~1e-13; 1e-12 relative is required.
 TEST(ExactIntegrator, GravityAloneGivesTheExactParabolaWhileSpinning) {
   const Inertia I = principal({0.05, 0.1, 0.13}, 2.0);
   std::mt19937 rng(8);

@@ -112,9 +112,10 @@ TEST(HardCaseTennisRacket, Cga2FlipPeriodAngularMomentumAndEnergy) {
 // 2. Torque-free symmetric top, J = (2, 2, 1) (distinct axis e3), w0 = (1, 0.5, 10), cga2 at
 // h = 1 ms for 100 s.
 //
-// Truth (the lecture's rotor solution, R(t) = exp(−½ L t/J1) R(0) exp(−½ β e12 t)):
+// Truth (the symmetric-top rotor solution, doc/conventions.md (E21),
+// R(t) = exp(−½ L t/J1) R(0) exp(−½ β e12 t)):
 //  - in the world, the symmetry axis R e3 precesses about the fixed L at the rate |L|/J1 (the
-//    nutation frequency of the lecture's "rotation in the angular-momentum plane");
+//    frequency of the rotation in the angular-momentum plane, the first factor of (E21));
 //  - in the body, w_⊥ = (w1, w2) turns about e3 at the rate −β, β = w3 (1 − J3/J1)
 //    (from J ẇ = Jw × w: ẇ1 = β w2, ẇ2 = −β w1).
 // Both rates are measured from the unwrapped angle at t = 100 s. cga2 tracks a modified
@@ -250,12 +251,12 @@ TEST(HardCaseConvergence, Cga4IsFourthOrder) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 5. The 2-D dumbbell of the lecture notes: unit point masses at x = ±x0 (x0 = 0.5) moving in
-// the xy-plane. Its J = (0, 2x0², 2x0²) is degenerate; the masses are given a small extent δ
-// along y (J = (δ, 2x0², 2x0² + δ), δ = 1e-3, still planar: J1 + J2 = J3), which changes nothing
-// for a motion in the plane. With Ω_B = f e1e2 + g e1n + h e2n, i.e. w = (0, 0, f) and
-// u = v_B/λ = (g, h, 0) (Bivelocity.trans holds the e1n, e2n coefficients), the lecture's
-// solution of I(Ω̇)∧n = (Ω×I(Ω))∧n is
+// 5. The 2-D dumbbell (doc/conventions.md#planar-dumbbell): unit point masses at x = ±x0
+// (x0 = 0.5) moving in the xy-plane. Its J = (0, 2x0², 2x0²) is degenerate; the masses are given a
+// small extent δ along y (J = (δ, 2x0², 2x0² + δ), δ = 1e-3, still planar: J1 + J2 = J3), which
+// changes nothing for a motion in the plane. With Ω_B = f e1e2 + g e1n + h e2n, i.e. w = (0, 0, f)
+// and u = v_B/λ = (g, h, 0) (Bivelocity.trans holds the e1n, e2n coefficients), the solution (E24)
+// of I(Ω̇)∧n = (Ω×I(Ω))∧n is
 //   f = const,  g(t) = c1 cos ft + c2 sin ft,  h(t) = c2 cos ft − c1 sin ft,
 // with (λc1, λc2) the (constant) world velocity of the centre of mass, which moves on a line.
 // Error bound: cga2 is second order in general, but here w lies along a principal axis, so the
@@ -390,11 +391,12 @@ TEST(HardCaseWorkEnergy, KineticEnergyGainEqualsTheWorkOfTheCouple) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 9. Gauge and scale (cga.md). α (the n part of F = f + αn) drops out of every moment, so the
-// trajectories for α = 0 and α = 1e3 must be identical, bit for bit. λ is a length scale: the
-// Euclidean trajectory for λ = 1 and λ = 7.3 must agree to round-off, 1e-12 relative (the
-// coefficients differ by factors of λ, so the rounding differs; 200 steps of ~ε each leave
-// ~1e-14). Observed for every integrator: attitude and w identical, x and v within 1.7e-14.
+// 9. Gauge and scale (doc/conventions.md (E12) and #length-scale-lambda). α (the n part of
+// F = f + αn) drops out of every moment, so the trajectories for α = 0 and α = 1e3 must be
+// identical, bit for bit. λ is a length scale: the Euclidean trajectory for λ = 1 and λ = 7.3 must
+// agree to round-off, 1e-12 relative (the coefficients differ by factors of λ, so the rounding
+// differs; 200 steps of ~ε each leave ~1e-14). Observed for every integrator: attitude and w
+// identical, x and v within 1.7e-14.
 Loads gaugeLoads(double alpha) {
   Loads loads;
   loads.setGravity(Vector3d(0, 0, -9.81));

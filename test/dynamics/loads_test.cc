@@ -19,9 +19,9 @@ using Eigen::Vector3d;
 using testing::pointMV;
 using testing::toMV;
 
-// The body moment from its definition in cga.md, in the reference algebra: the force F_W (a CGA
-// force vector in world axes) acts at the world point X_c = M X(p_B) M̃; its moment is
-// M_space = λ X_c∧F, back-rotated into the body and wedged with n.
+// The body moment from its definition (doc/conventions.md (E13)), in the reference algebra: the
+// force F_W (a CGA force vector in world axes) acts at the world point X_c = M X(p_B) M̃; its
+// moment is M_space = λ X_c∧F, back-rotated into the body and wedged with n.
 Multivector referenceMoment(const cga::Motor& M, const Vector3d& p_B, const cga::Force& F_W,
                             double lambda) {
   const Multivector Mm = toMV(M), Mr = Mm.reverse();
@@ -93,9 +93,9 @@ TEST(Loads, CouplesAndGravity) {
   EXPECT_LE((G.force(2.0) - 3.0 * (R.conjugate() * g)).norm(), 1e-14);
 }
 
-// Truth (cga.md): α drops out of T = (M̃ λ X∧F M)∧n exactly (λ X∧(αn)∧n = 0), so loads that
-// differ only in α give the same moment, bit for bit, and the reference algebra's moment of αn
-// alone is zero.
+// Truth (doc/conventions.md (E12)): α drops out of T = (M̃ λ X∧F M)∧n exactly (λ X∧(αn)∧n = 0), so
+// loads that differ only in α give the same moment, bit for bit, and the reference algebra's moment
+// of αn alone is zero.
 TEST(Loads, AlphaDropsOut) {
   testing::Rng rng(23);
   const cga::Motor M = rng.motor(2.0, 1.5);

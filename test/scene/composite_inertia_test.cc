@@ -2,11 +2,11 @@
 // derived by hand (below) from the URDF numbers with the parallel-axis theorem
 //   J_C = Σ_i [R_i J_i R_iᵀ + m_i (|d_i|² 1 − d_i d_iᵀ)],  d_i = c_i − C,  C = Σ m_i c_i / M.
 //
-// Tolerance: the inputs are decimal numbers (not exact in binary, relative error ε/2 each) and
-// the loader's arithmetic is a few dozen sums and products of numbers ≤ 0.5 (and rotations by
-// π/2 whose cos is 6e-17 instead of 0), so every entry (≤ 0.14 kg m²) is within ~1e-16 of the
-// exact value. 1e-12 absolute (the figure) is far above that and far below any modelling
-// error (the smallest hand-derived term is 1e-5).
+// Tolerance: the inputs are decimal numbers (not exact in binary, relative error ε/2 each) and the
+// loader's arithmetic is a few dozen sums and products of numbers ≤ 0.5 (and rotations by π/2 whose
+// cos is 6e-17 instead of 0), so every entry (≤ 0.14 kg m²) is within ~1e-16 of the exact value.
+// 1e-12 absolute (the required figure) is far above that and far below any modelling error (the
+// smallest hand-derived term is 1e-5).
 #include <gtest/gtest.h>
 
 #include <string>

@@ -1,7 +1,7 @@
-// The initial-state dictionary (doc/initial_state.md): each key form sets what it says, read
-// back through the stored state (M_WB0, Ω_B0) with the relations of cga.md — root link pose
-// M_WR = M_WB0 M_BR, centre-of-mass velocity v_W = R_WB v_B, w_W = R_WB w_B — and each error
-// names the body and the key and leaves the scene unchanged.
+// The initial-state dictionary (doc/initial_state.md): each key form sets what it says, read back
+// through the stored state (M_WB0, Ω_B0) with the relations of doc/conventions.md — root link pose
+// M_WR = M_WB0 M_BR, centre-of-mass velocity v_W = R_WB v_B, w_W = R_WB w_B — and each error names
+// the body and the key and leaves the scene unchanged.
 //
 // Test body: urdf/t_handle.urdf, whose body frame B is neither at the root link's origin
 // (centre of mass at z = 0.15) nor along its axes (principal axes permuted), so every

@@ -1,4 +1,5 @@
-// The length scale λ of the conformal model must not change any result (cga.md).
+// The length scale λ of the conformal model must not change any result
+// (doc/conventions.md#length-scale-lambda).
 #include <gtest/gtest.h>
 
 #include "sim/world_fixtures.h"
@@ -24,10 +25,11 @@ scene::Scene sceneWithLambda(double lambda) {
   return makeScene({b}, Eigen::Vector3d(0, 0, -9.81), lambda);
 }
 
-// Truth: λ-independence (cga.md: λ = 1 and λ = 7.3 give the same trajectory to 1e-12
-// relative). λ enters every conversion of the world (link placements, wrench points, impulse
-// moments, setBodyState), so a wrench in a link frame, one in the world frame, an impulse and a
-// state override all go through it; 500 steps later poses and velocities agree to 1e-12.
+// Truth: λ-independence (doc/conventions.md#length-scale-lambda: λ = 1 and λ = 7.3 give the same
+// trajectory to 1e-12 relative). λ enters every conversion of the world (link placements, wrench
+// points, impulse moments, setBodyState), so a wrench in a link frame, one in the world frame, an
+// impulse and a state override all go through it; 500 steps later poses and velocities agree to
+// 1e-12.
 TEST(WorldLambda, ResultsDoNotDependOnLambda) {
   auto run = [](double lambda) {
     auto w = makeWorld(sceneWithLambda(lambda));

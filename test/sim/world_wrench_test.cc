@@ -215,8 +215,9 @@ TEST(WorldWrench, ConcurrentWrenchesAdd) {
   }
 }
 
-// Truth (cga.md): α of F = f + αn drops out of the moment exactly, so α = 0 and α = 1e3 give
-// bit-identical trajectories (wrench in a link frame and in the world frame, and an impulse).
+// Truth (doc/conventions.md (E12)): α of F = f + αn drops out of the moment exactly, so α = 0
+// and α = 1e3 give bit-identical trajectories (wrench in a link frame and in the world frame, and
+// an impulse).
 TEST(WorldWrench, AlphaNeverChangesTheMotion) {
   auto run = [](double alpha) {
     auto w = makeWorld(tumbler());

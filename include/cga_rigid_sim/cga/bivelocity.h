@@ -1,4 +1,4 @@
-// Bivelocity: the body velocity bivector of cga.md, Ω_B = I3 w + (1/λ) v∧n.
+// Bivelocity: the body velocity bivector Ω_B = I3 w + (1/λ) v∧n (doc/conventions.md (E6)).
 //
 // Stored as its six blade coefficients on the null basis, in the order
 //   e23, e31, e12 (rotation part: the angular velocity vector w, body axes)

@@ -1,4 +1,4 @@
-// Force: the CGA force vector F = f + α n of cga.md (F·n = 0 for every α).
+// Force: the CGA force vector F = f + α n (doc/conventions.md (E12)); F·n = 0 for every α.
 //
 // f is the Euclidean force (N, or N s for an impulse), α a multiplier. α never changes the
 // motion (it drops out of the moment λ X∧F once wedged with n); it is carried so messages can

@@ -1,4 +1,4 @@
-// Moment: the body trivector torque of cga.md, T = (x∧f)∧n − (λ/2) n̄∧f∧n.
+// Moment: the body trivector torque T = (x∧f)∧n − (λ/2) n̄∧f∧n (doc/conventions.md (E13)).
 //
 // With E = e∧ē = ½ n̄∧n, n̄∧e_i∧n = −2 e_i∧E, so T = τ_i (I3 e_i)∧n + λ f_i e_i∧E with τ = x×f.
 // Stored as six blade coefficients in the order

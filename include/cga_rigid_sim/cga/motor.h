@@ -1,10 +1,12 @@
-// Motor: a rigid motion M = T(x) R of the conformal model (cga.md), the even element
+// Motor: a rigid motion M = T(x) R of the conformal model (doc/conventions.md (E4)), the even
+// element
 //   M = s + c23 e23 + c31 e31 + c12 e12 + c1 e1n + c2 e2n + c3 e3n + c123 e123n.
 //
-// How it computes (derivation in doc/architecture.md): writing M = R + (I3 Q) n, with R and Q
-// in the even subalgebra of Cl(3), the pair (R, Q) multiplies like a dual quaternion, because n
-// commutes with even and anticommutes with odd elements of Cl(3), and n² = 0. The motor keeps
-// that pair as two Hamilton quaternions (i = −e23, j = −e31, k = −e12):
+// How it computes (derivation in doc/conventions.md#motor-algebra-as-dual-quaternions): writing
+// M = R + (I3 Q) n, with R and Q in the even subalgebra of Cl(3), the pair (R, Q) multiplies
+// like a dual quaternion, because n commutes with even and anticommutes with odd elements of
+// Cl(3), and n² = 0. The motor keeps that pair as two Hamilton quaternions (i = −e23, j = −e31,
+// k = −e12):
 //   rotor r = (s, −c23, −c31, −c12),   dual part q = (c123, c1, c2, c3).
 // Every operation below is the algebra's product written out in this form; test/cga checks each
 // against the 32-blade reference multivector.

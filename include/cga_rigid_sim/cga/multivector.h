@@ -1,9 +1,10 @@
 // Multivector: the reference algebra Cl(4,1), all 32 blade coefficients (the test oracle).
 //
-// Basis (orthonormal, cga.md): e1, e2, e3 (square +1), e4 = e (square +1), e5 = ē (square −1).
-// A basis blade is named by a bitmask: bit 0 = e1, bit 1 = e2, bit 2 = e3, bit 3 = e, bit 4 = ē,
-// with its factors in increasing order; e.g. mask 0b01001 = 9 is e1∧e (printed e1^e4), mask 0 is
-// the scalar 1. The conformal null vectors are n = e + ē (infinity) and n̄ = e − ē (origin).
+// Basis (orthonormal, doc/conventions.md#algebra): e1, e2, e3 (square +1), e4 = e (square +1),
+// e5 = ē (square −1). A basis blade is named by a bitmask: bit 0 = e1, bit 1 = e2, bit 2 = e3,
+// bit 3 = e, bit 4 = ē, with its factors in increasing order; e.g. mask 0b01001 = 9 is e1∧e
+// (printed e1^e4), mask 0 is the scalar 1. The conformal null vectors are n = e + ē (infinity)
+// and n̄ = e − ē (origin).
 //
 // The geometric product of two basis blades is ±(blade of a XOR b): the sign counts the swaps
 // that put the concatenated factors in increasing order (distinct basis vectors anticommute)
@@ -18,7 +19,7 @@
 //   outer          A ^ B = outer(A, B)  = Σ_{r,s} ⟨A_r B_s⟩_{r+s}
 //   inner (Hestenes) inner(A, B)        = Σ_{r,s≥1} ⟨A_r B_s⟩_{|r−s|}  (zero if either is scalar)
 //   left contraction leftContract(A, B) = Σ_{r≤s} ⟨A_r B_s⟩_{s−r}
-//   commutator     commutator(A, B)     = ½(AB − BA)                    (cga.md's A × B)
+//   commutator     commutator(A, B)     = ½(AB − BA)      (A × B of doc/conventions.md)
 // For vectors a, b: inner(a, b) = leftContract(a, b) = ½(ab + ba), a ^ b = ½(ab − ba).
 //
 // Careful: C++ gives operator^ a lower precedence than + - == <<; always parenthesise `(a ^ b)`.
@@ -51,7 +52,7 @@ class Multivector {
   /// The vector e1*e1 + e2*e2 + e3*e3 + e*e + ebar*ē (arguments are coefficients).
   static Multivector vector(double e1, double e2, double e3, double e, double ebar);
 
-  /// Basis vectors and the named elements of cga.md.
+  /// Basis vectors and the named elements of doc/conventions.md#algebra.
   static Multivector e1();
   static Multivector e2();
   static Multivector e3();

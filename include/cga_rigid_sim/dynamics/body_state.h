@@ -1,6 +1,6 @@
 // BodyState: what changes as one rigid body moves — its motor and its body bivelocity.
 // M_WB maps the reference body B (origin at the centre of mass, principal axes) to the world;
-// omega_B is Ω_B = −2 M̃ Ṁ (cga.md), in B.
+// omega_B is Ω_B = −2 M̃ Ṁ (doc/conventions.md (E5)), in B.
 #pragma once
 
 #include "cga_rigid_sim/cga/bivelocity.h"

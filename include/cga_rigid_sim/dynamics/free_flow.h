@@ -3,7 +3,8 @@
 // The centre of mass moves on a straight line, x_W(t + h) = x_W(t) + h v_W. The attitude follows
 // the closed-form solution of the free rigid body, by inertia class:
 //   spherical:  w is constant in the body; R(t) = R(0) Rot_B(ŵ, |w| t).
-//   symmetric:  the rotor solution of the lecture notes (J1 = J2, distinct axis e3),
+//   symmetric:  the symmetric-top rotor solution (doc/conventions.md (E21); J1 = J2, distinct
+//               axis e3),
 //               R(t) = exp(−½ (L/J1) t) R(0) exp(−½ w3 (1 − J3/J1) e12 t), i.e. in body form
 //               R(t) = R(0) Rot_B(L̂_B(0), |L| t/J1) Rot_B(e3, β t), β = w3 (1 − J3/J1), and
 //               w_B(t) = Rot(e3, −β t) w_B(0).
@@ -16,9 +17,14 @@
 //               free rigid body motion and its use in splitting methods", SIAM J. Sci. Comput.
 //               30 (2008) 2084–2112, and Landau & Lifshitz, Mechanics, §37.)
 //
-// Every quantity is evaluated from the elapsed time since the cache was built (the elliptic
-// phase, the angles about L and about the body axes), never by compounding rotations, so world L
-// and T are kept to round-off, |L| exactly, and N steps of h equal one step of N h to round-off.
+// The phases are accumulated step by step: each call adds its increment to the running angles
+// kept in the cache (ψ += rate·h about L or ŵ, ψ3 += β h about e3, the elliptic phase τ += ω_p h
+// with the periodic part of ψ re-evaluated at the new τ and whole half periods added), reduced to
+// [−π, π] (on the elliptic path τ to [−K, K]); the centre of mass likewise, x_W += h v_W. The
+// rotor is then rebuilt in closed form from those angles, never by compounding step rotations, so
+// world L, |L| and T are kept to round-off at every step. The round-off of the accumulated sums
+// does grow with the number of steps: N steps of h equal one step of N h only up to it
+// (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
 #pragma once
 
 #include <Eigen/Core>
@@ -42,7 +48,7 @@ struct FreeFlowCache {
     kNone,        ///< empty: rebuild on the next call
     kStill,       ///< w = 0: the attitude does not change
     kUniform,     ///< w constant in the body (spherical body, or spin about a principal axis)
-    kSymmetric,   ///< J1 = J2: the lecture's rotor solution
+    kSymmetric,   ///< J1 = J2: the symmetric-top rotor solution (doc/conventions.md (E21))
     kElliptic,    ///< J1 < J2 < J3 off the separatrix: Jacobi elliptic functions
     kSeparatrix,  ///< J1 < J2 < J3 on the separatrix (k = 1): hyperbolic functions
   };

@@ -1,5 +1,5 @@
 // Impulses: a trivector impulse T_imp makes Ω_B jump by ΔΩ_B = (I∧n)⁻¹(T_imp); the motor (the
-// pose) does not jump (lecture notes, eq. (4), impulsive form).
+// pose) does not jump (doc/conventions.md (E17), the impulsive form of (E15)).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,13 +1,15 @@
-// Inertia: mass and principal moments of one rigid body, and the map Ω ↦ I(Ω)∧n of cga.md.
+// Inertia: mass and principal moments of one rigid body, and the map Ω ↦ I(Ω)∧n
+// (doc/conventions.md (E11)).
 //
 // In the reference body B (origin at the centre of mass, axes along the principal axes) the
 // map is diagonal on the blade coefficients of Bivelocity and Moment:
 //   I(Ω)∧n ↔ diag(J1, J2, J3, mλ², mλ², mλ²),
 // because wedging with n removes every term of I(Ω) = λ² ∫ρ X∧(X·Ω) that involves third
-// moments of the mass (cga.md; checked against the reference algebra in test/dynamics).
+// moments of the mass (doc/conventions.md#inertia-map-and-kinetic-energy; checked against the
+// reference algebra in test/dynamics).
 //
-// Axis order of B (a free choice, cga.md): spherical — the input axes; symmetric — the
-// distinct axis is e3; asymmetric — J1 < J2 < J3. Always right-handed.
+// Axis order of B (a free choice, doc/conventions.md#body-frame): spherical — the input axes;
+// symmetric — the distinct axis is e3; asymmetric — J1 < J2 < J3. Always right-handed.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,7 +35,7 @@ enum class TrianglePolicy {
 /// Principal moments closer than this (relative) are treated as equal: the difference is the
 /// round-off of the diagonalisation, and the exact symmetric/spherical paths need equality.
 constexpr double kEqualMomentsRelTol = 1e-12;
-/// Slack of the triangle inequality check (relative), as the issue specifies.
+/// Slack of the triangle inequality check (relative).
 constexpr double kTriangleRelSlack = 1e-9;
 
 class Inertia {
@@ -62,7 +64,7 @@ class Inertia {
   cga::Moment apply(const cga::Bivelocity& omega_B, double lambda) const {
     return {J_.cwiseProduct(omega_B.rot), (mass_ * lambda * lambda) * omega_B.trans};
   }
-  /// (I∧n)⁻¹: the bivelocity change produced by a body trivector (eq. (4) of the lecture).
+  /// (I∧n)⁻¹: the bivelocity change produced by a body trivector (doc/conventions.md (E15)).
   cga::Bivelocity solve(const cga::Moment& T_B, double lambda) const {
     return {T_B.rot.cwiseQuotient(J_), T_B.trans / (mass_ * lambda * lambda)};
   }

@@ -2,13 +2,14 @@
 //
 // Without loads a step is exactFreeFlow(h) (free_flow.h): the Euler–Poinsot solution in closed
 // form (Jacobi elliptic functions and the elliptic integral of the third kind for asymmetric
-// bodies, the lecture's rotor solution for symmetric ones) and a straight line for the centre of
-// mass. It is exact to round-off at any step size: N steps of h equal one step of N h.
+// bodies, the symmetric-top rotor solution (doc/conventions.md (E21)) for symmetric ones) and a
+// straight line for the centre of mass. It is exact to round-off at any step size: N steps of h
+// equal one step of N h.
 //
 // With loads, one step is the symmetric (Strang) splitting
 //   S(h) = K(h/2) F(h) K(h/2),
 // F the exact free flow and K(τ) the kick Ω_B += τ (I∧n)⁻¹(T_applied + T_gravity), the moments
-// evaluated at the pose of the kick (cga.md: eq. (4) of the lecture notes). This is the
+// evaluated at the pose of the kick (doc/conventions.md (E15), (E23)). This is the
 // splitting of Celledoni, Fassò, Säfström & Zanna ("The exact computation of the free rigid
 // body motion and its use in splitting methods", SIAM J. Sci. Comput. 30 (2008) 2084–2112),
 // i.e. of Touma & Wisdom (1994) and Dullweber, Leimkuhler & McLachlan (1997) with the free

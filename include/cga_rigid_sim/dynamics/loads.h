@@ -4,7 +4,8 @@
 // couple. Its directions are fixed either in the world (a push whose direction does not turn)
 // or in the body (a thruster that turns with it). The point is always a material point, given
 // in B (centre-of-mass principal frame). Moments are formed as λ X∧F, back-rotated into the
-// body and wedged with n (cga.md): T_B = (x_B × f_B, λ f_B) + (τ_B, 0); α drops out.
+// body and wedged with n (doc/conventions.md (E13)): T_B = (x_B × f_B, λ f_B) + (τ_B, 0); α
+// drops out.
 //
 // Gravity is kept apart: a uniform field acts at the centre of mass, produces no torque, and the
 // integrators treat it exactly (the centre of mass follows the parabola to round-off).

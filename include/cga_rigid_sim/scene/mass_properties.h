@@ -4,7 +4,7 @@
 // Used by the URDF loader to merge links joined by fixed joints (parallel-axis theorem) and, for
 // the extension element <cga_rigid_sim:mass_from_geometry>, to compute a link's inertia from its
 // collision geometry: closed forms for box, cylinder and sphere, and for triangle meshes the
-// divergence-theorem surface integrals of shared/reference/rigid-body-simulation-notes.txt.
+// divergence-theorem surface integrals of doc/conventions.md#mass-properties (E25).
 #pragma once
 
 #include <Eigen/Core>
