@@ -111,7 +111,8 @@ class World {
   Result<BodyStateReport> getBodyState(const std::string& body) const;
   /// Sets pose (root link frame, world) and velocities (CoM velocity and angular velocity,
   /// world axes) of a moving body, effective before the next step:
-  /// M_WB = M_WL0 M_BL0⁻¹, Ω_B = R̃ w + (1/λ) (R̃ v)∧n. Refuses non-finite numbers, a rotation
+  /// M_WB = M_WL0 M_BL0⁻¹, Ω_B with body-axis coefficients (R̃ w, R̃ v/λ) (doc/conventions.md
+  /// (E6)). Refuses non-finite numbers, a rotation
   /// that is not proper, unknown and static bodies. The body's integrator is reset; its
   /// world-frame wrenches keep their material points.
   Result<bool> setBodyState(const std::string& body, const Eigen::Isometry3d& pose_root,
