@@ -7,7 +7,7 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-// ΔΩ_B = (I∧n)⁻¹ T_imp (doc/conventions.md, the impulse rule); the pose does not jump. A
+// ΔΩ_B = (I∧n)⁻¹ T_imp (doc/conventions.md (E17)); the pose does not jump. A
 // world-frame impulse acts at the world point at this step's pose; a link-frame one is in B.
 void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
   MovingBodyData& b = data.bodies[in.body];

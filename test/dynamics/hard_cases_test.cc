@@ -262,7 +262,7 @@ TEST(HardCaseConvergence, Cga4IsFourthOrder) {
 // Error bound: cga2 is second order in general, but here w lies along a principal axis, so the
 // pieces R1 and R2 turn by 0 and R3 is the exact flow: the only error is round-off, which grows
 // like (steps)·ε relative: 1e4 steps → 1e-12 relative to |c| and |x|; bound 1e-11.
-TEST(HardCaseDumbbell, Cga2FollowsTheLectureSolution) {
+TEST(HardCaseDumbbell, Cga2FollowsThePlanarDumbbellSolution) {
   const double x0 = 0.5, delta = 1e-3, lambda = 1.7;
   const Inertia I = principal(Vector3d(delta, 2 * x0 * x0, 2 * x0 * x0 + delta), 2.0);
   ASSERT_EQ(I.principalMoments()[2], 2 * x0 * x0 + delta);  // B = the dumbbell's own axes

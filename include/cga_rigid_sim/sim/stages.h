@@ -2,8 +2,8 @@
 // order (doc/architecture.md draws the pipeline):
 //
 //   applyDueInputs   inputs due at step k, in (step, arrival) order: an impulse makes Ω_B jump
-//                    by (I∧n)⁻¹ T_imp (the pose does not jump; the body's integrator is reset),
-//                    a wrench starts (stage_inputs.cc);
+//                    by (I∧n)⁻¹ T_imp, doc/conventions.md (E17) (the pose does not jump; the
+//                    body's integrator is reset), a wrench starts (stage_inputs.cc);
 //   updateLoads      each body's loads become gravity plus its active wrenches, summed in the
 //                    order they started — rebuilt only for bodies whose set changed
 //                    (stage_loads.cc);

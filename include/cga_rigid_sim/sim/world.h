@@ -29,7 +29,7 @@
 // at least 1; d = 0 → 1 step; d < 0 → until clearWrenches() (or reset()).
 //
 // Impulses (ImpulseInput) act at the start of the step their stamp falls in, before loads and
-// integration: ΔΩ_B = (I∧n)⁻¹ T_imp (dynamics/impulse.h). In the world frame the linear
+// integration: ΔΩ_B = (I∧n)⁻¹ T_imp (doc/conventions.md (E17)). In the world frame the linear
 // impulse, its point and the angular impulse are in world axes at that step's pose; in a link
 // frame they are in that link's frame (fixed in the body). The pose does not jump.
 //
