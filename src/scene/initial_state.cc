@@ -6,9 +6,9 @@
 // as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W (cga.md).
 #include <Eigen/Geometry>
 #include <cmath>
-#include <sstream>
 #include <unordered_map>
 
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
@@ -34,12 +34,7 @@ std::string allowedKeys() {
   return s;
 }
 
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
+constexpr int kDigits = 10;  // significant digits of numbers in messages
 
 // A list of n finite numbers; the error says which element is wrong and why.
 Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::string& where) {
@@ -57,7 +52,8 @@ Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::strin
                    list[i].typeName()};
     out[i] = list[i].asNumber();
     if (!std::isfinite(out[i]))
-      return Error{where + "[" + std::to_string(i) + "]: must be finite (got " + num(out[i]) + ")"};
+      return Error{where + "[" + std::to_string(i) + "]: must be finite (got " +
+                   formatNumber(out[i], kDigits) + ")"};
   }
   return out;
 }
@@ -132,7 +128,8 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
       const double norm = q->norm();
       if (!(std::abs(norm - 1.0) <= kQuaternionNormTol))
         return Error{where + ".orientation: [x, y, z, w] must be a unit quaternion (norm " +
-                     num(norm) + "; a norm within 1e-6 of 1 is normalised, others are refused)"};
+                     formatNumber(norm, kDigits) +
+                     "; a norm within 1e-6 of 1 is normalised, others are refused)"};
       q_WR = Eigen::Quaterniond((*q)[3], (*q)[0], (*q)[1], (*q)[2]).normalized();
     }
     if (keys.count("rpy")) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
@@ -48,16 +49,7 @@ std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
 
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
-
-std::string fmt(const Eigen::Vector3d& v) {
-  return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + ")";
-}
+constexpr int kDigits = 6;  // significant digits of the summary's numbers: one screen
 
 }  // namespace
 
@@ -69,7 +61,7 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   os << "scene '" << scene.robot_name << "' from " << scene.source << ": " << scene.bodies.size()
      << (scene.bodies.size() == 1 ? " body (" : " bodies (") << moving << " moving, "
      << scene.bodies.size() - moving << " static), integrator '" << integrator
-     << "', lambda = " << fmt(scene.lambda) << " m\n";
+     << "', lambda = " << formatNumber(scene.lambda, kDigits) << " m\n";
   const auto& names = summaryIntegratorNames();
   if (std::find(names.begin(), names.end(), integrator) == names.end()) {
     os << "  unknown integrator '" << integrator << "' (known:";
@@ -80,7 +72,7 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   if (scene.gravity_W.isZero(0.0))
     os << "  gravity: off\n";
   else
-    os << "  gravity: " << fmt(scene.gravity_W)
+    os << "  gravity: " << formatVector(scene.gravity_W, kDigits)
        << " m/s^2 on every moving body (uniform, at the centre of mass: no torque)\n";
   os << "  applied wrenches and impulses: can reach every moving body\n"
         "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
@@ -97,7 +89,8 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
       os << "static (never stepped)";
     } else {
       const auto& I = *b.inertia;
-      os << "mass " << fmt(I.mass()) << " kg, J = " << fmt(I.principalMoments()) << " kg m^2, "
+      os << "mass " << formatNumber(I.mass(), kDigits)
+         << " kg, J = " << formatVector(I.principalMoments(), kDigits) << " kg m^2, "
          << dynamics::toString(I.inertiaClass()) << ", path " << path;
       if (integrator == "auto" && path != "at-rest") os << " (torque-free)";
     }
