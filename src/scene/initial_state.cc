@@ -9,16 +9,13 @@
 #include <unordered_map>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/rotation_rule.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {
 
 namespace {
-
-/// How far from 1 the norm of a quaternion may be and still be normalised: YAML written by
-/// hand carries about 7 significant digits (0.7071068² · 2 = 1.00000006).
-constexpr double kQuaternionNormTol = 1e-6;
 
 const char* const kKeys[] = {"position",
                              "orientation",
@@ -125,11 +122,8 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
     if (keys.count("orientation")) {
       auto q = readNumbers(keys.at("orientation"), 4, where + ".orientation");
       if (!q) return Error{q.error()};
-      const double norm = q->norm();
-      if (!(std::abs(norm - 1.0) <= kQuaternionNormTol))
-        return Error{where + ".orientation: [x, y, z, w] must be a unit quaternion (norm " +
-                     formatNumber(norm, kDigits) +
-                     "; a norm within 1e-6 of 1 is normalised, others are refused)"};
+      if (auto refused = quaternionRule((*q)[3], (*q)[0], (*q)[1], (*q)[2]))
+        return Error{where + ".orientation: [x, y, z, w] " + *refused};
       q_WR = Eigen::Quaterniond((*q)[3], (*q)[0], (*q)[1], (*q)[2]).normalized();
     }
     if (keys.count("rpy")) {

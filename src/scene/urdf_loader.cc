@@ -12,7 +12,7 @@
 // optional keys:
 //   position:              [x, y, z]      root link origin, world frame, m
 //   orientation:           [x, y, z, w]   root link attitude, unit quaternion (normalised if
-//                                         within 1e-6 of unit, refused otherwise)
+//                                         nearly unit, refused otherwise: rotation_rule.h)
 //   rpy:                   [r, p, y]      the same as fixed-axis roll, pitch, yaw (rad);
 //                                         give orientation or rpy, not both
 //   linear_velocity:       [vx, vy, vz]   of the centre of mass, world axes, m/s
