@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/rotation_rule.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
@@ -70,8 +71,7 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
 
   struct Update {
     int body;
-    cga::Motor M_WB0;
-    cga::Bivelocity omega_B0;
+    dynamics::BodyState state0;
   };
   std::vector<Update> updates;  // applied only when every entry is valid
   for (const auto& [name, entry] : initial_state.asMap()) {
@@ -147,16 +147,11 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
       (key[0] == 'l' ? v_W : w_W) = q_WR * Eigen::Vector3d(*v);
     }
 
-    Update u;
-    u.body = it->second;
-    u.M_WB0 = cga::Motor::fromPose(q_WR, x_WR, lambda) * M_BR.reverse();
-    const Eigen::Quaterniond q_BW = u.M_WB0.rotation().conjugate();
-    u.omega_B0 = cga::Bivelocity::fromVelocities(q_BW * w_W, q_BW * v_W, lambda);
-    updates.push_back(u);
+    updates.push_back({it->second, placedState(M_BR, q_WR, x_WR, v_W, w_W, lambda)});
   }
   for (const Update& u : updates) {
-    scene.bodies[u.body].M_WB0 = u.M_WB0;
-    scene.bodies[u.body].omega_B0 = u.omega_B0;
+    scene.bodies[u.body].M_WB0 = u.state0.M_WB;
+    scene.bodies[u.body].omega_B0 = u.state0.omega_B;
   }
   return true;
 }
