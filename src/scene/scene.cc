@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "cga_rigid_sim/dynamics/at_rest.h"
 #include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
@@ -42,8 +43,7 @@ std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
   if (integrator != "auto") return integrator;
   // Uniform gravity acts at the centre of mass: it changes no rotation, so it leaves the
   // torque-free paths exact (the centre of mass follows its parabola in closed form).
-  const bool moving = !body.omega_B0.rot.isZero(0.0) || !body.omega_B0.trans.isZero(0.0);
-  if (scene.gravity_W.isZero(0.0) && !moving) return "at-rest";
+  if (dynamics::isAtRest(!scene.gravity_W.isZero(0.0), body.omega_B0)) return "at-rest";
   return std::string("exact-") + dynamics::toString(body.inertia->inertiaClass());
 }
 
