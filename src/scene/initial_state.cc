@@ -4,6 +4,8 @@
 // body frame B (centre of mass, principal axes), related by the constant M_BR (the root link's
 // LinkFrame). So M_WB = M_WR M_BR⁻¹. Velocities are given in world or root link axes and stored
 // as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W (cga.md).
+#include "cga_rigid_sim/scene/initial_state.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <unordered_map>
@@ -11,7 +13,6 @@
 #include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/rotation_rule.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {

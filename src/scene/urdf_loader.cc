@@ -44,6 +44,7 @@
 #include <unordered_map>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/initial_state.h"
 #include "cga_rigid_sim/scene/mass_properties.h"
 #include "cga_rigid_sim/scene/mesh.h"
 #include "urdf_xml.h"
