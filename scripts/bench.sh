@@ -4,8 +4,9 @@
 #   scripts/bench.sh [--no-install] [--no-build] [--no-peers] [--no-node] [--quick] [--cpu-time]
 #
 # Steps: install the peer engines and gnuplot (scripts/install_deps.sh --peers), build with the
-# benchmarks (scripts/build.sh -DBUILD_BENCHMARKS=ON), run the peers (bench/peers/run_peers.sh),
-# our work-precision sweep, the scaling sweep and the node throughput, then bench/report.py.
+# benchmarks (scripts/build.sh -DCGA_RIGID_SIM_BUILD_BENCHMARKS=ON), run the peers
+# (bench/peers/run_peers.sh), our work-precision sweep, the scaling sweep and the node
+# throughput, then bench/report.py.
 # The parts run one after another (the peers' driver itself runs two runners at a time, one
 # per core). Raw results go to bench/out/ (git-ignored). Budget: 15 minutes on 2 cores (the
 # measured time is printed at the end and recorded in doc/benchmarks.md). The ns figures are
@@ -52,7 +53,7 @@ if $install; then
 fi
 if $build; then
   stamp "building (Release, benchmarks on)"
-  bash scripts/build.sh -DBUILD_BENCHMARKS=ON -DBUILD_PEER_BENCHMARKS=ON
+  bash scripts/build.sh -DCGA_RIGID_SIM_BUILD_BENCHMARKS=ON -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=ON
 fi
 for exe in bench_work_precision bench_scaling; do
   [[ -x "$bin/$exe" ]] || { echo "bench.sh: $bin/$exe missing: build first" >&2; exit 1; }

@@ -17,7 +17,7 @@ source scripts/build_lock.sh
 take_build_lock run.sh
 
 bash scripts/install_deps.sh
-bash scripts/build.sh -DBUILD_PEER_BENCHMARKS=OFF
+bash scripts/build.sh -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=OFF
 exec 9>&-  # release the lock: the job may run for a long time
 
 export PATH="/usr/bin:$PATH"

@@ -19,7 +19,7 @@ take_build_lock test.sh
 
 bash scripts/install_deps.sh
 # The peer engines' runners are benchmarks only (scripts/bench.sh builds them): skip them here.
-bash scripts/build.sh --tests -DBUILD_PEER_BENCHMARKS=OFF "$@"
+bash scripts/build.sh --tests -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=OFF "$@"
 
 # Environment: Debian python first, the workspace's devel space, a private ROS home, and a
 # master URI that can only be local (rostest starts its own master on a free port).

@@ -2,19 +2,16 @@
 // step h for T seconds (default 100) and prints, at 20 regular intervals, the time, the energy
 // error, the |L| error, the attitude error and the centre-of-mass error against the truth.
 //
-// Cases (the parameters of bench/cases/cases.h; body frame = world frame at t = 0, principal
-// moments given along the world axes):
-//   tennis_racket    J = (1, 2, 3), w0 = (0.01, 2, 0.01): Dzhanibekov flips
-//   symmetric_top    J = (2, 2, 1), w0 = (1, 0.5, 10)
-//   thin_rod         J = (1, 1.0005, 1e-3), w0 = (0.3, 0.2, 100): fast spin about the long axis
-//   projectile       m = 2, J = (0.02, 0.03, 0.04), w0 = (3, 20, −5), v0 = (5, 0, 10), gravity
-//   constant_torque  J = (1, 2, 3), w0 = (0.5, 1, 1.5), constant world couple (0.1, −0.2, 0.3)
+// Cases: the benchmarks' table, bench/cases/cases.h (tennis_racket, thin_rod, symmetric_top,
+// projectile, constant_torque; body frame = world frame at t = 0, principal moments given along
+// the world axes).
 // Truth: the attitude of the torque-free cases is the `exact` integrator (closed-form Euler–
 // Poinsot flow) at the same h; with the couple, classical RK4 with 16 substeps per step; the
 // centre of mass is the parabola x0 + v0 t + g t²/2. Errors: energy (T + V) relative to the
 // truth's, |L| relative to the truth's, attitude as the rotation angle between the two (rad),
 // centre of mass as a distance (m). ROS-free.
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cases/cases.h"
 #include "cga_rigid_sim/dynamics/derived.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 
@@ -29,27 +27,12 @@ namespace {
 
 using Eigen::Vector3d;
 
-struct Case {
-  const char* name;
-  double mass;
-  Vector3d J, w0, v0, g, torque;
-};
-
-const std::vector<Case>& cases() {
-  static const std::vector<Case> kCases = {
-      {"tennis_racket", 1.0, {1, 2, 3}, {0.01, 2, 0.01}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
-      {"symmetric_top", 1.0, {2, 2, 1}, {1, 0.5, 10}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
-      {"thin_rod", 1.0, {1, 1.0005, 1e-3}, {0.3, 0.2, 100}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
-      {"projectile", 2.0, {0.02, 0.03, 0.04}, {3, 20, -5}, {5, 0, 10}, {0, 0, -9.81}, {0, 0, 0}},
-      {"constant_torque", 1.0, {1, 2, 3}, {0.5, 1, 1.5}, {0, 0, 0}, {0, 0, 0}, {0.1, -0.2, 0.3}},
-  };
-  return kCases;
-}
+Vector3d toVector(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
 int usage(const char* message) {
   if (message) std::cerr << "hard_case_demo: " << message << "\n";
   std::cerr << "usage: hard_case_demo <case> <integrator> <h> [T]\n  case:";
-  for (const Case& c : cases()) std::cerr << " " << c.name;
+  for (const bench::Case& c : bench::allCases()) std::cerr << " " << c.name;
   std::cerr << "\n  integrator:";
   for (const auto& n : cga_rigid_sim::dynamics::integratorNames()) std::cerr << " " << n;
   std::cerr << "\n  h: step (s, > 0); T: simulated time (s, > 0, default 100)\n";
@@ -75,19 +58,22 @@ int main(int argc, char** argv) {
   if (argc == 2 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help"))
     return usage(nullptr);
   if (argc < 4 || argc > 5) return usage("expected 3 or 4 arguments");
-  const Case* c = nullptr;
-  for (const Case& k : cases())
-    if (argv[1] == std::string(k.name)) c = &k;
+  const std::vector<bench::Case> cases = bench::allCases();
+  const bench::Case* c = nullptr;
+  for (const bench::Case& k : cases)
+    if (argv[1] == k.name) c = &k;
   if (!c) return usage(("unknown case '" + std::string(argv[1]) + "'").c_str());
+  const Vector3d w0 = toVector(c->w0_body), v0 = toVector(c->v0_world), g = toVector(c->gravity),
+                 torque = toVector(c->torque_world);
   auto integrator = makeIntegrator(argv[2]);
   if (!integrator) return usage(integrator.error().c_str());
-  double h = 0, T = 100.0;
+  double h = 0, T = c->T;
   if (!parsePositive(argv[3], &h)) return usage("h must be a positive number of seconds");
   if (argc == 5 && !parsePositive(argv[4], &T))
     return usage("T must be a positive number of seconds");
 
   const double lambda = 1.0;
-  const auto inertia = Inertia::fromPrincipal(c->name, c->mass, c->J);
+  const auto inertia = Inertia::fromPrincipal(c->name, c->mass, toVector(c->inertia));
   if (!inertia) {
     std::cerr << inertia.error() << "\n";
     return 1;
@@ -96,14 +82,13 @@ int main(int argc, char** argv) {
   const Eigen::Quaterniond R0 = inertia->rotationFromPrincipal();
   BodyState s;
   s.M_WB = cga::Motor::fromPose(R0, Vector3d::Zero(), lambda);
-  s.omega_B =
-      cga::Bivelocity::fromVelocities(R0.conjugate() * c->w0, R0.conjugate() * c->v0, lambda);
+  s.omega_B = cga::Bivelocity::fromVelocities(R0.conjugate() * w0, R0.conjugate() * v0, lambda);
   Loads loads;
-  loads.setGravity(c->g);
-  if (!c->torque.isZero()) {
+  loads.setGravity(g);
+  if (!torque.isZero()) {
     AppliedLoad couple;
     couple.axes = Axes::kWorld;
-    couple.couple = c->torque;
+    couple.couple = torque;
     loads.add(couple);
   }
   const bool torque_free = !loads.hasTorque();
@@ -112,7 +97,7 @@ int main(int argc, char** argv) {
   BodyState truth = s;
 
   auto energy = [&](const BodyState& b) {
-    return kineticEnergy(*inertia, b, lambda) + potentialEnergy(*inertia, b, c->g, lambda);
+    return kineticEnergy(*inertia, b, lambda) + potentialEnergy(*inertia, b, g, lambda);
   };
   auto angularMomentum = [&](const BodyState& b) {
     return angularMomentumCom_W(*inertia, b).norm();
@@ -123,7 +108,7 @@ int main(int argc, char** argv) {
   std::printf(
       "# %s with %s, h = %g s, T = %g s; truth: %s; errors relative except attitude "
       "(rad) and centre of mass (m)\n",
-      c->name, argv[2], h, n * h,
+      c->name.c_str(), argv[2], h, n * h,
       torque_free ? "exact flow at the same h, parabola" : "rk4 with 16 substeps, parabola");
   std::printf("# %10s  %12s  %12s  %12s  %12s  %s\n", "t[s]", "energy", "|L|", "attitude", "com",
               "path");
@@ -137,7 +122,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     const double t = k * h;
-    const Vector3d x = c->v0 * t + 0.5 * t * t * c->g;
+    const Vector3d x = v0 * t + 0.5 * t * t * g;
     std::printf("%12.4f  %12.3e  %12.3e  %12.3e  %12.3e  %s\n", t,
                 std::abs(energy(s) - energy(truth)) / std::abs(energy(truth)),
                 std::abs(angularMomentum(s) - angularMomentum(truth)) / angularMomentum(truth),

@@ -1,6 +1,8 @@
 // scene_summary <file.urdf> [integrator]: loads a URDF scene as the simulator would (default
 // options: gravity 0 0 -9.81, triangle inequality enforced, no initial state) and prints the
 // one-screen summary, or the loader's error on stderr with exit status 1. ROS-free.
+#include "cga_rigid_sim/scene/scene_summary.h"
+
 #include <algorithm>
 #include <iostream>
 #include <string>

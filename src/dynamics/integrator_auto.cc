@@ -1,5 +1,7 @@
 #include "cga_rigid_sim/dynamics/integrator_auto.h"
 
+#include "cga_rigid_sim/dynamics/at_rest.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
@@ -20,7 +22,7 @@ const char* exactPath(InertiaClass c) {
 
 void AutoIntegrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
                           BodyState& state) {
-  if (loads.empty() && state.omega_B.rot.isZero(0.0) && state.omega_B.trans.isZero(0.0)) {
+  if (isAtRest(loads, state.omega_B)) {
     path_ = "at-rest";
     return;
   }

@@ -5,21 +5,20 @@
 // LinkFrame). So M_WB = M_WR M_BR⁻¹. Velocities are given in world or root link axes and stored
 // as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W
 // (doc/conventions.md (E6)).
+#include "cga_rigid_sim/scene/initial_state.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
-#include <sstream>
 #include <unordered_map>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/placement.h"
+#include "cga_rigid_sim/scene/rotation_rule.h"
 
 namespace cga_rigid_sim {
 namespace scene {
 
 namespace {
-
-/// How far from 1 the norm of a quaternion may be and still be normalised: YAML written by
-/// hand carries about 7 significant digits (0.7071068² · 2 = 1.00000006).
-constexpr double kQuaternionNormTol = 1e-6;
 
 const char* const kKeys[] = {"position",
                              "orientation",
@@ -35,12 +34,7 @@ std::string allowedKeys() {
   return s;
 }
 
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
+constexpr int kDigits = 10;  // significant digits of numbers in messages
 
 // A list of n finite numbers; the error says which element is wrong and why.
 Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::string& where) {
@@ -58,7 +52,8 @@ Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::strin
                    list[i].typeName()};
     out[i] = list[i].asNumber();
     if (!std::isfinite(out[i]))
-      return Error{where + "[" + std::to_string(i) + "]: must be finite (got " + num(out[i]) + ")"};
+      return Error{where + "[" + std::to_string(i) + "]: must be finite (got " +
+                   formatNumber(out[i], kDigits) + ")"};
   }
   return out;
 }
@@ -78,8 +73,7 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
 
   struct Update {
     int body;
-    cga::Motor M_WB0;
-    cga::Bivelocity omega_B0;
+    dynamics::BodyState state0;
   };
   std::vector<Update> updates;  // applied only when every entry is valid
   for (const auto& [name, entry] : initial_state.asMap()) {
@@ -130,10 +124,8 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
     if (keys.count("orientation")) {
       auto q = readNumbers(keys.at("orientation"), 4, where + ".orientation");
       if (!q) return Error{q.error()};
-      const double norm = q->norm();
-      if (!(std::abs(norm - 1.0) <= kQuaternionNormTol))
-        return Error{where + ".orientation: [x, y, z, w] must be a unit quaternion (norm " +
-                     num(norm) + "; a norm within 1e-6 of 1 is normalised, others are refused)"};
+      if (auto refused = quaternionRule((*q)[3], (*q)[0], (*q)[1], (*q)[2]))
+        return Error{where + ".orientation: [x, y, z, w] " + *refused};
       q_WR = Eigen::Quaterniond((*q)[3], (*q)[0], (*q)[1], (*q)[2]).normalized();
     }
     if (keys.count("rpy")) {
@@ -157,16 +149,11 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
       (key[0] == 'l' ? v_W : w_W) = q_WR * Eigen::Vector3d(*v);
     }
 
-    Update u;
-    u.body = it->second;
-    u.M_WB0 = cga::Motor::fromPose(q_WR, x_WR, lambda) * M_BR.reverse();
-    const Eigen::Quaterniond q_BW = u.M_WB0.rotation().conjugate();
-    u.omega_B0 = cga::Bivelocity::fromVelocities(q_BW * w_W, q_BW * v_W, lambda);
-    updates.push_back(u);
+    updates.push_back({it->second, placedState(M_BR, q_WR, x_WR, v_W, w_W, lambda)});
   }
   for (const Update& u : updates) {
-    scene.bodies[u.body].M_WB0 = u.M_WB0;
-    scene.bodies[u.body].omega_B0 = u.omega_B0;
+    scene.bodies[u.body].M_WB0 = u.state0.M_WB;
+    scene.bodies[u.body].omega_B0 = u.state0.omega_B;
   }
   return true;
 }

@@ -2,7 +2,8 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
+
+#include "cga_rigid_sim/format.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -82,18 +83,12 @@ Result<MassProperties> meshMassProperties(const TriangleMesh& mesh, double densi
   }
   const double extent = (hi - lo).maxCoeff();
   const double kVolumeTol = 1e3 * std::numeric_limits<double>::epsilon() * extent * extent * extent;
-  std::ostringstream os;
-  os.precision(10);
-  if (V < -kVolumeTol) {
-    os << "mesh '" << name << "' encloses a negative volume (" << V
-       << " m^3): its triangles are wound clockwise seen from outside (normals point inwards); "
-          "reverse the winding";
-    return Error{os.str()};
-  }
-  if (!(V > kVolumeTol)) {
-    os << "mesh '" << name << "' encloses no volume (" << V << " m^3)";
-    return Error{os.str()};
-  }
+  if (V < -kVolumeTol)
+    return Error{"mesh '" + name + "' encloses a negative volume (" + formatNumber(V, 10) +
+                 " m^3): its triangles are wound clockwise seen from outside (normals point "
+                 "inwards); reverse the winding"};
+  if (!(V > kVolumeTol))
+    return Error{"mesh '" + name + "' encloses no volume (" + formatNumber(V, 10) + " m^3)"};
   const Eigen::Vector3d c_o = S1 / V;
   MassProperties p;
   p.mass = density * V;

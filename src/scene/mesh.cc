@@ -14,6 +14,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "cga_rigid_sim/format.h"
+
 namespace cga_rigid_sim {
 namespace scene {
 
@@ -28,13 +30,6 @@ bool parseFinite(const std::string& token, double* out) {
   if (first != last && *first == '+') ++first;
   const auto r = std::from_chars(first, last, *out);
   return r.ec == std::errc() && r.ptr == last && std::isfinite(*out);
-}
-
-std::string describe(const Eigen::Vector3d& x) {
-  std::ostringstream os;
-  os.precision(9);
-  os << "(" << x.x() << ", " << x.y() << ", " << x.z() << ")";
-  return os.str();
 }
 
 std::string lowercase(std::string s) {
@@ -232,8 +227,9 @@ Result<bool> checkClosedMesh(const TriangleMesh& mesh, const std::string& name) 
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
     for (int e = 0; e < 3; ++e) {
       const int u = t[e], v = t[(e + 1) % 3];
-      const std::string edge = "the edge from " + describe(mesh.vertices[u]) + " to " +
-                               describe(mesh.vertices[v]) + " (triangle " + std::to_string(k) + ")";
+      const std::string edge = "the edge from " + formatVector(mesh.vertices[u], 9) + " to " +
+                               formatVector(mesh.vertices[v], 9) + " (triangle " +
+                               std::to_string(k) + ")";
       if (directed[key(u, v)] > 1)
         return Error{"mesh '" + name + "' is not consistently oriented or not manifold: " + edge +
                      " is traversed in the same direction by " +

@@ -1,11 +1,9 @@
-// Scene look-ups, the planned integrator path per body and the one-screen summary.
+// Scene look-ups and the planned integrator path per body.
 #include "cga_rigid_sim/scene/scene.h"
 
 #include <algorithm>
-#include <map>
-#include <sstream>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/dynamics/at_rest.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -41,86 +39,8 @@ std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
   if (integrator != "auto") return integrator;
   // Uniform gravity acts at the centre of mass: it changes no rotation, so it leaves the
   // torque-free paths exact (the centre of mass follows its parabola in closed form).
-  const bool moving = !body.omega_B0.rot.isZero(0.0) || !body.omega_B0.trans.isZero(0.0);
-  if (scene.gravity_W.isZero(0.0) && !moving) return "at-rest";
+  if (dynamics::isAtRest(!scene.gravity_W.isZero(0.0), body.omega_B0)) return "at-rest";
   return std::string("exact-") + dynamics::toString(body.inertia->inertiaClass());
-}
-
-namespace {
-
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
-
-std::string fmt(const Eigen::Vector3d& v) {
-  return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + ")";
-}
-
-}  // namespace
-
-std::string sceneSummary(const Scene& scene, const std::string& integrator) {
-  constexpr std::size_t kMaxListed = 20;  // one screen
-  std::ostringstream os;
-  std::size_t moving = 0;
-  for (const auto& b : scene.bodies) moving += b.is_static ? 0 : 1;
-  os << "scene '" << scene.robot_name << "' from " << scene.source << ": " << scene.bodies.size()
-     << (scene.bodies.size() == 1 ? " body (" : " bodies (") << moving << " moving, "
-     << scene.bodies.size() - moving << " static), integrator '" << integrator
-     << "', lambda = " << fmt(scene.lambda) << " m\n";
-  const auto& names = summaryIntegratorNames();
-  if (std::find(names.begin(), names.end(), integrator) == names.end()) {
-    os << "  unknown integrator '" << integrator << "' (known:";
-    for (const auto& n : names) os << " " << n;
-    os << ")\n";
-  }
-  os << "loads:\n";
-  if (scene.gravity_W.isZero(0.0))
-    os << "  gravity: off\n";
-  else
-    os << "  gravity: " << fmt(scene.gravity_W)
-       << " m/s^2 on every moving body (uniform, at the centre of mass: no torque)\n";
-  os << "  applied wrenches and impulses: can reach every moving body\n"
-        "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
-        "acts)\n";
-  os << "bodies:\n";
-  std::map<std::string, std::size_t> path_count;
-  for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
-    const BodyModel& b = scene.bodies[k];
-    const std::string path = plannedIntegratorPath(scene, b, integrator);
-    ++path_count[path];
-    if (k >= kMaxListed) continue;
-    os << "  " << b.name << ": ";
-    if (b.is_static) {
-      os << "static (never stepped)";
-    } else {
-      const auto& I = *b.inertia;
-      os << "mass " << fmt(I.mass()) << " kg, J = " << fmt(I.principalMoments()) << " kg m^2, "
-         << dynamics::toString(I.inertiaClass()) << ", path " << path;
-      if (integrator == "auto" && path != "at-rest") os << " (torque-free)";
-    }
-    os << "\n";
-    os << "    links:";
-    for (std::size_t i = 0; i < b.links.size(); ++i) os << (i ? ", " : " ") << b.links[i].link;
-    if (!b.merged_joints.empty()) {
-      os << " (merged by fixed joint" << (b.merged_joints.size() > 1 ? "s" : "");
-      for (const auto& j : b.merged_joints) os << " " << j;
-      os << ")";
-    }
-    os << "\n";
-  }
-  if (scene.bodies.size() > kMaxListed)
-    os << "  ... and " << scene.bodies.size() - kMaxListed << " more bodies\n";
-  os << "paths:";
-  for (const auto& [path, n] : path_count) os << " " << path << " x" << n << ";";
-  os << "\n";
-  if (!scene.warnings.empty()) {
-    os << "warnings:\n";
-    for (const auto& w : scene.warnings) os << "  " << w << "\n";
-  }
-  return os.str();
 }
 
 }  // namespace scene

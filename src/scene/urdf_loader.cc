@@ -12,7 +12,7 @@
 // optional keys:
 //   position:              [x, y, z]      root link origin, world frame, m
 //   orientation:           [x, y, z, w]   root link attitude, unit quaternion (normalised if
-//                                         within 1e-6 of unit, refused otherwise)
+//                                         nearly unit, refused otherwise: rotation_rule.h)
 //   rpy:                   [r, p, y]      the same as fixed-axis roll, pitch, yaw (rad);
 //                                         give orientation or rpy, not both
 //   linear_velocity:       [vx, vy, vz]   of the centre of mass, world axes, m/s
@@ -43,6 +43,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/initial_state.h"
 #include "cga_rigid_sim/scene/mass_properties.h"
 #include "cga_rigid_sim/scene/mesh.h"
 #include "urdf_xml.h"
@@ -60,12 +62,7 @@ const char* const kRelaxHint =
 std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
 // Numbers in messages: 10 significant digits show a triangle inequality broken in the 8th.
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
+constexpr int kDigits = 10;
 
 Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
@@ -122,7 +119,7 @@ class Loader {
 std::optional<Error> Loader::checkOptions() const {
   if (!std::isfinite(options_.lambda) || !(options_.lambda > 0))
     return fail(0, "SceneOptions::lambda (the CGA length scale) must be finite and > 0 (got " +
-                       num(options_.lambda) + ")");
+                       formatNumber(options_.lambda, kDigits) + ")");
   if (!options_.gravity_W.allFinite()) return fail(0, "SceneOptions::gravity_W must be finite");
   if (options_.world_frame.empty()) return fail(0, "SceneOptions::world_frame must not be empty");
   return std::nullopt;
@@ -160,7 +157,7 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
   if (!std::isfinite(in.mass)) return fail(line, owner + ": mass must be a finite number");
   if (!J_I.allFinite()) return fail(line, owner + ": inertia entries must be finite numbers");
   if (in.mass < 0)
-    return fail(line, owner + ": negative mass " + num(in.mass) +
+    return fail(line, owner + ": negative mass " + formatNumber(in.mass, kDigits) +
                           " kg (a link's mass must be > 0, or 0 for a massless link)");
   LinkMass out;
   if (in.mass == 0) {
@@ -179,13 +176,15 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
     return fail(line, owner +
                           ": inertia tensor is not positive semi-definite (principal "
                           "moments " +
-                          num(m[0]) + ", " + num(m[1]) + ", " + num(m[2]) +
+                          formatNumber(m[0], kDigits) + ", " + formatNumber(m[1], kDigits) + ", " +
+                          formatNumber(m[2], kDigits) +
                           " kg m^2); no mass distribution has a negative moment");
   if (m[2] > (m[0] + m[1]) * (1.0 + dynamics::kTriangleRelSlack)) {
     const std::string broken = owner +
                                ": inertia breaks the triangle inequality I1 + I2 >= I3 "
                                "(principal moments " +
-                               num(m[0]) + " + " + num(m[1]) + " < " + num(m[2]) + " kg m^2)";
+                               formatNumber(m[0], kDigits) + " + " + formatNumber(m[1], kDigits) +
+                               " < " + formatNumber(m[2], kDigits) + " kg m^2)";
     if (options_.triangle_policy == dynamics::TrianglePolicy::kRefuse)
       return fail(line, broken + kRelaxHint);
     // Nearest physical moments (Euclidean distance): project onto I1 + I2 = I3 along (1, 1, −1).
@@ -193,8 +192,9 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
     m += Eigen::Vector3d(d, d, -d);
     J_I = eig.eigenvectors() * m.asDiagonal() * eig.eigenvectors().transpose();
     warnings_.push_back(source_ + ":" + std::to_string(line) + ": " + broken +
-                        "; relax_inertia is set: using the nearest physical moments " + num(m[0]) +
-                        ", " + num(m[1]) + ", " + num(m[2]));
+                        "; relax_inertia is set: using the nearest physical moments " +
+                        formatNumber(m[0], kDigits) + ", " + formatNumber(m[1], kDigits) + ", " +
+                        formatNumber(m[2], kDigits));
   }
   MassProperties p;
   p.mass = in.mass;

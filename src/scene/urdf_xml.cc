@@ -9,6 +9,8 @@
 #include <optional>
 #include <sstream>
 
+#include "cga_rigid_sim/format.h"
+
 namespace cga_rigid_sim {
 namespace scene {
 namespace detail {
@@ -125,10 +127,9 @@ std::optional<Error> Reader::readGeometry(const XMLElement* holder, const std::s
   const std::string shape_owner = owner + ": <" + holder->Name() + "><" + kind + ">";
   auto positive = [&](double value, const char* attr) -> std::optional<Error> {
     if (!for_mass || value > 0) return std::nullopt;
-    std::ostringstream os;
-    os << shape_owner << " " << attr << " must be > 0 to compute mass from geometry (got " << value
-       << ")";
-    return fail(shape->GetLineNum(), os.str());
+    return fail(shape->GetLineNum(), shape_owner + " " + attr +
+                                         " must be > 0 to compute mass from geometry (got " +
+                                         formatNumber(value, 6) + ")");
   };
   if (kind == "box") {
     g->kind = CollisionGeometry::Kind::kBox;
@@ -191,9 +192,8 @@ std::optional<Error> Reader::readMassFromGeometry(const XMLElement* link, const 
   m.by_mass = has_mass;
   const double value = has_mass ? m.mass : m.density;
   if (!(value > 0)) {
-    std::ostringstream os;
-    os << where << " " << (has_mass ? "mass" : "density") << " must be > 0 (got " << value << ")";
-    return fail(m.line, os.str());
+    return fail(m.line, where + " " + (has_mass ? "mass" : "density") + " must be > 0 (got " +
+                            formatNumber(value, 6) + ")");
   }
   for (const XMLElement* c = link->FirstChildElement("collision"); c;
        c = c->NextSiblingElement("collision")) {

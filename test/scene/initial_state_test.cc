@@ -7,6 +7,8 @@
 // (centre of mass at z = 0.15) nor along its axes (principal axes permuted), so every
 // conversion between root link, body and world frames is exercised. Tolerance 1e-14: a few
 // rotations of numbers ≤ 10 (ε ≈ 2e-16 each).
+#include "cga_rigid_sim/scene/initial_state.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "cga_rigid_sim/scene/scene_summary.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {

@@ -21,6 +21,7 @@
 
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/force.h"
+#include "cga_rigid_sim/cga/moment.h"
 #include "cga_rigid_sim/cga/point.h"
 
 namespace cga_rigid_sim {
@@ -118,6 +119,20 @@ class Motor {
     const Eigen::Vector3d b_out = (ra * q_.conjugate()).vec() + (q_ * a * r_.conjugate()).vec() +
                                   (r_ * b * r_.conjugate()).vec();
     return Bivelocity(-a_out, b_out);
+  }
+  /// M T M̃ for a body trivector T (a moment, momentum or impulse, cga/moment.h): carries it
+  /// between frames. For M = T(a) R: (τ, λf) ↦ (R τ + a × (R f), λ R f).
+  ///
+  /// Derivation: the moment of a force F = f + αn at the point X = X(x) is
+  /// T = λ X∧F∧n = (x × f)_i (I3 e_i)∧n + λ f_i e_i∧E. A motor is a versor, so its sandwich
+  /// distributes over ∧, and it maps X(x) to X(R x + a), F to R f + α'n and n to n. Hence
+  /// M T M̃ = λ X(R x + a)∧(R f + α'n)∧n is the moment of R f at R x + a:
+  /// τ' = (R x + a) × R f = R τ + a × R f, and f' = R f. The moments (x × f, λ f) span all
+  /// trivectors (a couple (τ, 0) is the difference of one force at two points), and the action
+  /// is linear, so the formula holds for every T.
+  Moment apply(const Moment& T, double lambda) const {
+    const Eigen::Vector3d trans = r_ * T.trans;  // λ R f
+    return Moment(r_ * T.rot + translation(lambda).cross(trans) / lambda, trans);
   }
 
   /// |M M̃ − 1| (max coefficient): zero for a unit motor; reported as drift.

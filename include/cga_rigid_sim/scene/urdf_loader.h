@@ -14,6 +14,11 @@
 #include "cga_rigid_sim/scene/param_value.h"
 #include "cga_rigid_sim/scene/scene.h"
 
+// Split out of this header; included here for one release, until src/sim and src/ros include
+// them themselves.
+#include "cga_rigid_sim/scene/initial_state.h"
+#include "cga_rigid_sim/scene/scene_summary.h"
+
 namespace cga_rigid_sim {
 namespace scene {
 
@@ -31,16 +36,6 @@ Result<Scene> loadUrdfFile(const std::string& path, const SceneOptions& options)
 /// `source` names the string in messages (e.g. "robot_description").
 Result<Scene> loadUrdfString(const std::string& xml, const std::string& source,
                              const SceneOptions& options);
-
-/// Applies an initial-state dictionary (doc/initial_state.md) to the bodies' initial poses and
-/// velocities. On error the scene is left unchanged and the message names the body and the key
-/// ("<source>: initial_state.<body>.<key>: <rule>"). loadUrdf* call it with
-/// SceneOptions::initial_state.
-Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state);
-
-/// The one-screen summary printed on load: bodies, links merged into each, mass, principal
-/// moments, inertia class, integrator path under `integrator`, active loads.
-std::string sceneSummary(const Scene& scene, const std::string& integrator);
 
 }  // namespace scene
 }  // namespace cga_rigid_sim
