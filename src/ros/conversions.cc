@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iterator>
 
+#include "cga_rigid_sim/scene/rotation_rule.h"
+
 namespace cga_rigid_sim {
 namespace node {
 namespace {
@@ -77,13 +79,10 @@ Result<Eigen::Isometry3d> toIsometry(const geometry_msgs::Pose& pose, const std:
       firstNonFinite(pose.position.x, pose.position.y, pose.position.z, field + ".position");
   if (!bad_position.empty()) return notFinite(bad_position);
   const auto& o = pose.orientation;
-  if (!std::isfinite(o.w) || !std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.z))
-    return notFinite(field + ".orientation");
+  if (auto rule = scene::quaternionRule(o.w, o.x, o.y, o.z))
+    return Error{field + ".orientation: " + *rule +
+                 (o.w == 0.0 ? "; use w: 1 for no rotation" : "")};
   const double norm = std::sqrt(o.w * o.w + o.x * o.x + o.y * o.y + o.z * o.z);
-  if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
-    return Error{field + ".orientation: not a unit quaternion (norm " + std::to_string(norm) +
-                 "); use w: 1 for no rotation"};
-  }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() =
       Eigen::Quaterniond(o.w / norm, o.x / norm, o.y / norm, o.z / norm).toRotationMatrix();

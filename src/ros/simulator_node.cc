@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/ros/parameters.h"
+#include "cga_rigid_sim/scene/scene_summary.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "simulator.h"

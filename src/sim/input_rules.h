@@ -6,11 +6,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <optional>
-#include <sstream>
 #include <string>
 
-#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/rotation_rule.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -20,16 +20,8 @@ namespace sim {
 /// i.e. ≤ 1e15 · 2.2e-16 ≈ 0.2 steps at the very end of the range, ~1e-13 for hours at 1 ms).
 constexpr double kStepTolerance = 1e-9;
 
-/// A pose's rotation matrix R must satisfy max|RᵀR − I| ≤ this and det R > 0. Rotations that
-/// went through single precision (ε ≈ 6e-8) pass; the quaternion taken from R is normalised.
-constexpr double kRotationTolerance = 1e-6;
-
-inline std::string num(double x) {
-  std::ostringstream os;
-  os.precision(15);
-  os << x;
-  return os.str();
-}
+/// Numbers in refusals: 15 significant digits show any typed-in double unchanged.
+inline std::string num(double x) { return formatNumber(x, 15); }
 
 /// "<field>.x: not finite (nan)" for the first non-finite component, or nothing.
 inline std::optional<Error> checkFinite(const std::string& input, const std::string& field,
@@ -58,18 +50,12 @@ inline std::optional<Error> checkMagnitude(const std::string& input, const std::
   return std::nullopt;
 }
 
-/// A pose: finite, and its rotation proper (RᵀR = I within kRotationTolerance, det R > 0).
+/// A pose: finite translation, and a rotation by the one rotation rule (scene/rotation_rule.h).
 inline std::optional<Error> checkPose(const std::string& input, const Eigen::Isometry3d& pose) {
   if (auto e = checkFinite(input, "pose.translation", Eigen::Vector3d(pose.translation())))
     return e;
-  const Eigen::Matrix3d R = pose.linear();
-  if (!R.allFinite()) return Error(input, "pose.rotation", "not finite");
-  const double orth = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  const double det = R.determinant();
-  if (!(orth <= kRotationTolerance) || !(det > 0))
-    return Error(input, "pose.rotation",
-                 "not a proper rotation (max |R^T R - I| = " + num(orth) + ", det R = " + num(det) +
-                     "; allowed " + num(kRotationTolerance) + ", det > 0)");
+  if (auto rule = scene::rotationMatrixRule(pose.linear()))
+    return Error(input, "pose.rotation", *rule);
   return std::nullopt;
 }
 

@@ -1,23 +1,12 @@
 #include "state_edit.h"
 
+#include "cga_rigid_sim/scene/placement.h"
 #include "input_admission.h"
 #include "input_rules.h"
 #include "wrench_schedule.h"
 
 namespace cga_rigid_sim {
 namespace sim {
-
-dynamics::BodyState placedState(const cga::Motor& M_BL0, const Eigen::Isometry3d& pose_root,
-                                const Eigen::Vector3d& v_W, const Eigen::Vector3d& w_W,
-                                double lambda) {
-  const Eigen::Quaterniond R_WL(Eigen::Quaterniond(pose_root.linear()).normalized());
-  const cga::Motor M_WL0 = cga::Motor::fromPose(R_WL, pose_root.translation(), lambda);
-  dynamics::BodyState s;
-  s.M_WB = (M_WL0 * M_BL0.reverse()).normalized();  // a unit motor to round-off
-  const Eigen::Quaterniond R_BW = s.M_WB.rotation().conjugate();
-  s.omega_B = cga::Bivelocity::fromVelocities(R_BW * w_W, R_BW * v_W, lambda);
-  return s;
-}
 
 Result<bool> setBodyState(const Model& model, Data& data, const std::string& body,
                           const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,
@@ -30,7 +19,8 @@ Result<bool> setBodyState(const Model& model, Data& data, const std::string& bod
   if (!target) return target.failure();
   const int i = *target;
   MovingBodyData& b = data.bodies[i];
-  b.state = placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
+  b.state =
+      scene::placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
   b.integrator->reset();
   return true;
 }

@@ -12,13 +12,6 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-/// The state of a body placed with its root link at pose_root and the given CoM and angular
-/// velocities (world axes): M_WB = M_WL0 M_BL0⁻¹ (the root link's frame sits at M_BL0 in B),
-/// Ω_B with body-axis coefficients (R̃ w, R̃ v/λ) (doc/conventions.md (E6)).
-dynamics::BodyState placedState(const cga::Motor& M_BL0, const Eigen::Isometry3d& pose_root,
-                                const Eigen::Vector3d& v_W, const Eigen::Vector3d& w_W,
-                                double lambda);
-
 /// World::setBodyState (rules in world.h).
 Result<bool> setBodyState(const Model& model, Data& data, const std::string& body,
                           const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,

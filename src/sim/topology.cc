@@ -1,8 +1,8 @@
 #include "topology.h"
 
+#include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "input_rules.h"
-#include "state_edit.h"
 #include "wrench_schedule.h"
 
 namespace cga_rigid_sim {
@@ -72,7 +72,7 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
   scene::BodyModel body = std::move(loaded.value());
   // The placement is its initial state for reset().
   const dynamics::BodyState s0 =
-      placedState(body.links.front().M_BL, pose_root, v_W, w_W, model.lambda);
+      scene::placedState(body.links.front().M_BL, pose_root, v_W, w_W, model.lambda);
   body.M_WB0 = s0.M_WB;
   body.omega_B0 = s0.omega_B;
 

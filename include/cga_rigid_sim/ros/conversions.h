@@ -55,13 +55,9 @@ geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p);
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& T);
 geometry_msgs::Transform toTransformMsg(const Eigen::Isometry3d& T);
 
-/// Largest deviation of |q| from 1 accepted in a pose (hand-typed quaternions with four
-/// digits, e.g. (0.7071, 0, 0, 0.7071), are off by ~1e-5); such a quaternion is normalised.
-constexpr double kQuaternionNormTolerance = 1e-3;
-
-/// A pose as an isometry. Refuses non-finite coordinates and quaternions whose norm is not 1
-/// within kQuaternionNormTolerance (e.g. the all-zero default of a message); `field` names the
-/// pose in the error ("spawn_urdf.pose").
+/// A pose as an isometry. Refuses non-finite coordinates and quaternions that break the one
+/// rotation rule (scene/rotation_rule.h: norm within 1e-3 of 1, then normalised; the all-zero
+/// default of a message is refused); `field` names the pose in the error ("spawn_urdf.pose").
 Result<Eigen::Isometry3d> toIsometry(const geometry_msgs::Pose& pose, const std::string& field);
 
 /// `field`: not finite → error "<field>.x: not finite (NaN or Inf)"; else the vector.

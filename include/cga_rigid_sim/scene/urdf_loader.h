@@ -14,11 +14,6 @@
 #include "cga_rigid_sim/scene/param_value.h"
 #include "cga_rigid_sim/scene/scene.h"
 
-// Split out of this header; included here for one release, until src/sim and src/ros include
-// them themselves.
-#include "cga_rigid_sim/scene/initial_state.h"
-#include "cga_rigid_sim/scene/scene_summary.h"
-
 namespace cga_rigid_sim {
 namespace scene {
 
