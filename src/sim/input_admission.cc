@@ -75,69 +75,94 @@ Result<int> movingTarget(const Model& model, const std::string& input, const std
   return i;
 }
 
-Result<QueuedInput> admitWrench(const Model& model, const Data& data, const WrenchInput& in) {
-  const std::string what = "apply_wrench";
-  const WorldConfig& config = model.config;
-  // Numbers: finite, within the limits.
-  if (auto e = checkFinite(what, "f", in.F.f)) return *e;
-  if (auto e = checkFinite(what, "alpha", in.F.alpha)) return *e;
-  if (auto e = checkFinite(what, "point", in.point)) return *e;
-  if (auto e = checkFinite(what, "couple", in.couple)) return *e;
-  if (auto e = checkFinite(what, "start_time", in.start_time)) return *e;
-  if (auto e = checkFinite(what, "duration", in.duration)) return *e;
-  if (auto e = checkMagnitude(what, "f", in.F.f, config.max_force, "max_force", "N")) return *e;
-  if (auto e = checkMagnitude(what, "couple", in.couple, config.max_force, "max_force", "N m"))
-    return *e;
-  if (auto e = checkMagnitude(what, "point", in.point, kMaxPointDistance, "the limit", "m"))
-    return *e;
-  // Body, frame, step, duration.
-  auto target = movingTarget(model, what, in.body);
+namespace {
+
+// What wrenches and impulses share — a CGA force vector at a point plus a couple, on a body,
+// in a frame, from a stamp — with the field names, limit and units of each.
+struct ForceInput {
+  const char* input;         // "apply_wrench", "apply_impulse"
+  const char* force_field;   // "f", "J"
+  const char* couple_field;  // "couple", "angular"
+  double limit;
+  const char* limit_name;
+  const char* force_unit;
+  const char* couple_unit;
+  const std::string& body;
+  const std::string& frame;
+  const cga::Force& F;
+  const Eigen::Vector3d& point;
+  const Eigen::Vector3d& couple;
+  double start_time;
+};
+
+std::optional<Error> checkFiniteNumbers(const ForceInput& in) {
+  if (auto e = checkFinite(in.input, in.force_field, in.F.f)) return e;
+  if (auto e = checkFinite(in.input, "alpha", in.F.alpha)) return e;
+  if (auto e = checkFinite(in.input, "point", in.point)) return e;
+  if (auto e = checkFinite(in.input, in.couple_field, in.couple)) return e;
+  return checkFinite(in.input, "start_time", in.start_time);
+}
+
+std::optional<Error> checkLimits(const ForceInput& in) {
+  if (auto e =
+          checkMagnitude(in.input, in.force_field, in.F.f, in.limit, in.limit_name, in.force_unit))
+    return e;
+  if (auto e = checkMagnitude(in.input, in.couple_field, in.couple, in.limit, in.limit_name,
+                              in.couple_unit))
+    return e;
+  return checkMagnitude(in.input, "point", in.point, kMaxPointDistance, "the limit", "m");
+}
+
+// Body, frame and step resolved, directions and point placed; the numbers are checked.
+Result<QueuedInput> resolve(const Model& model, const Data& data, const ForceInput& in,
+                            QueuedInput::Kind kind) {
+  auto target = movingTarget(model, in.input, in.body);
   if (!target) return target.failure();
-  const int i = *target;
-  auto frame = frameOf(model, what, in.frame, i);
+  auto frame = frameOf(model, in.input, in.frame, *target);
   if (!frame) return frame.failure();
-  auto k = stepOf(model, data, what, in.start_time);
+  auto k = stepOf(model, data, in.input, in.start_time);
   if (!k) return k.failure();
-  std::uint64_t steps = 1;
-  if (in.duration < 0) {
-    steps = 0;  // until cleared
-  } else if (in.duration > 0) {
-    const double n = std::floor(in.duration / config.dt + 0.5 + kStepTolerance);
-    if (n > kMaxSteps)
-      return Error(what, "duration",
-                   num(in.duration) + " s is more than " + num(kMaxSteps) +
-                       " steps (use a negative duration: until cleared)");
-    steps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(n));
-  }
-  QueuedInput q =
-      placed(model, QueuedInput::Kind::kWrench, *k, i, *frame, in.F, in.point, in.couple);
-  q.steps = steps;
+  return placed(model, kind, *k, *target, *frame, in.F, in.point, in.couple);
+}
+
+// The number of steps a wrench of duration d lasts (world.h): 0 = until cleared.
+Result<std::uint64_t> wrenchSteps(const WorldConfig& config, double d) {
+  if (d < 0) return std::uint64_t{0};
+  if (d == 0) return std::uint64_t{1};
+  const double n = std::floor(d / config.dt + 0.5 + kStepTolerance);
+  if (n > kMaxSteps)
+    return Error("apply_wrench", "duration",
+                 num(d) + " s is more than " + num(kMaxSteps) +
+                     " steps (use a negative duration: until cleared)");
+  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(n));
+}
+
+}  // namespace
+
+Result<QueuedInput> admitWrench(const Model& model, const Data& data, const WrenchInput& in) {
+  const ForceInput f{"apply_wrench", "f",  "couple", model.config.max_force,
+                     "max_force",    "N",  "N m",    in.body,
+                     in.frame,       in.F, in.point, in.couple,
+                     in.start_time};
+  if (auto e = checkFiniteNumbers(f)) return *e;
+  if (auto e = checkFinite(f.input, "duration", in.duration)) return *e;
+  if (auto e = checkLimits(f)) return *e;
+  auto q = resolve(model, data, f, QueuedInput::Kind::kWrench);
+  if (!q) return q;
+  auto steps = wrenchSteps(model.config, in.duration);
+  if (!steps) return steps.failure();
+  q->steps = *steps;
   return q;
 }
 
 Result<QueuedInput> admitImpulse(const Model& model, const Data& data, const ImpulseInput& in) {
-  const std::string what = "apply_impulse";
-  const WorldConfig& config = model.config;
-  if (auto e = checkFinite(what, "J", in.J.f)) return *e;
-  if (auto e = checkFinite(what, "alpha", in.J.alpha)) return *e;
-  if (auto e = checkFinite(what, "point", in.point)) return *e;
-  if (auto e = checkFinite(what, "angular", in.angular)) return *e;
-  if (auto e = checkFinite(what, "start_time", in.start_time)) return *e;
-  if (auto e = checkMagnitude(what, "J", in.J.f, config.max_impulse, "max_impulse", "N s"))
-    return *e;
-  if (auto e =
-          checkMagnitude(what, "angular", in.angular, config.max_impulse, "max_impulse", "N m s"))
-    return *e;
-  if (auto e = checkMagnitude(what, "point", in.point, kMaxPointDistance, "the limit", "m"))
-    return *e;
-  auto target = movingTarget(model, what, in.body);
-  if (!target) return target.failure();
-  const int i = *target;
-  auto frame = frameOf(model, what, in.frame, i);
-  if (!frame) return frame.failure();
-  auto k = stepOf(model, data, what, in.start_time);
-  if (!k) return k.failure();
-  return placed(model, QueuedInput::Kind::kImpulse, *k, i, *frame, in.J, in.point, in.angular);
+  const ForceInput f{"apply_impulse", "J",   "angular", model.config.max_impulse,
+                     "max_impulse",   "N s", "N m s",   in.body,
+                     in.frame,        in.J,  in.point,  in.angular,
+                     in.start_time};
+  if (auto e = checkFiniteNumbers(f)) return *e;
+  if (auto e = checkLimits(f)) return *e;
+  return resolve(model, data, f, QueuedInput::Kind::kImpulse);
 }
 
 void enqueue(Data& data, const QueuedInput& q) {

@@ -16,11 +16,6 @@ void InputQueue::push(QueuedInput in) {
   items_.insert(pos, in);
 }
 
-const QueuedInput* InputQueue::popDue(std::uint64_t step) {
-  if (head_ == items_.size() || items_[head_].step > step) return nullptr;
-  return &items_[head_++];
-}
-
 std::size_t InputQueue::wrenchCount(int body) const {
   std::size_t n = 0;
   for (std::size_t i = head_; i < items_.size(); ++i)

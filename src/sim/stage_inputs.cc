@@ -24,6 +24,7 @@ void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
 
 void applyDueInputs(const Model& model, Data& data) {
   const std::uint64_t k = data.step_count;
+  if (!data.queue.hasDue(k)) return;  // most steps: nothing to do, no frame to set up
   while (const QueuedInput* in = data.queue.popDue(k)) {
     if (in->kind == QueuedInput::Kind::kImpulse) {
       applyImpulseNow(model, data, *in);

@@ -47,7 +47,14 @@ class InputQueue {
   void push(QueuedInput in);
   /// The next input due at or before `step`, in (step, arrival) order, or nullptr. The pointer
   /// stays valid until the next push/clear/remove. Never allocates.
-  const QueuedInput* popDue(std::uint64_t step);
+  const QueuedInput* popDue(std::uint64_t step) {
+    if (!hasDue(step)) return nullptr;
+    return &items_[head_++];
+  }
+  /// Whether an input is due at or before `step`.
+  bool hasDue(std::uint64_t step) const {
+    return head_ != items_.size() && items_[head_].step <= step;
+  }
 
   /// Inputs waiting (not yet popped).
   std::size_t size() const { return items_.size() - head_; }
