@@ -306,10 +306,11 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //    (Π(ν; am τ_r) − F), Θ gains mπ and Φ nothing. Hence ψ(t) = rate·t + m Δψ_half + g(τ_r):
 //      g(τ_r) = ±β (ν/3) sn³ R_J(cn², dn², 1, 1 − ν sn²) ∓ γ (Θ or Φ),
 //      Δψ_half = ±2β (ν/3) R_J(0, k'², 1, 1 − ν) [− γ π for n].
-//    A step advances τ by ω_p h and ψ by rate·h + m Δψ_half + g(τ_r,new) − g(τ_r,old): one
-//    sn/cn/dn (Bulirsch) and one R_J per step, whatever h. Nothing is compounded, so the only
-//    error that grows with the number of steps is the round-off of the phase and of ψ (ψ is
-//    reduced mod 2π, τ mod 2K).
+//    A step evaluates, from the anchor (τ_a, ψ_a, g_a) and the elapsed time t = k h,
+//    τ = τ_a + ω_p t (m half periods removed) and ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) − g_a:
+//    one sn/cn/dn (Bulirsch) and one R_J per step, whatever h. Nothing is compounded or summed
+//    over steps, so the round-off of τ and ψ is a few ulps of ω_p t and rate·t themselves (the
+//    floor set by the rounding of ω_p and rate), not a growing sum of per-step roundings.
 //
 // 5. Special states. Separatrix (D = E J2 exactly, k = 1): sn = tanh τ, cn = dn = sech τ, no
 //    period; in the dual form Π(N; am τ, 1) − F is elementary and
@@ -329,45 +330,69 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //    phase); at the threshold that is below 1e-9 after 1e3 rad of rotation.
 //
 // Symmetric and spherical bodies use the closed forms of free_flow.h, with their angles likewise
-// accumulated step by step (rate·h, β h) and reduced, and w_B rebuilt from w_B(0) each step.
-// The centre of mass: v_W = R v_B is constant, x_W += h v_W, v_B = R(t + h)ᵀ v_W; the motor is
-// rebuilt in closed form as M = T(x_W) R.
+// evaluated from the elapsed time (ψ_a + rate·t, ψ3_a + β t) and reduced, and w_B rebuilt from
+// w_B(0) each step. The centre of mass: x_W = x_a + v_a t + ½ g t², v_W = v_a + g t from its
+// anchor, v_B = R(t + h)ᵀ v_W; the motor is rebuilt in closed form as M = T(x_W) R.
 void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& state,
-                   FreeFlowCache& cache) {
+                   FreeFlowCache& cache, const Eigen::Vector3d& g_W) {
   const Eigen::Quaterniond r0 = state.M_WB.rotation();
   const Eigen::Vector3d& w = state.omega_B.rot;
   const Eigen::Vector3d& J = inertia.principalMoments();
 
   // The cache is valid when the state is the one it left (bit for bit) for the same moments.
-  const bool valid = cache.path != Path::kNone && cache.key_J == J && cache.key_r == r0.coeffs() &&
-                     cache.key_w == w;
+  const bool valid = cache.path != Path::kNone && cache.key_J == J && cache.key_r == r0.coeffs() && cache.key_w == w;
   if (!valid) build(inertia, r0, w, cache);
 
-  // Centre of mass (world): straight line.
+  // Centre of mass (world): x(t) = x_a + v_a t + ½ g t², v(t) = v_a + g t, evaluated from an
+  // anchor and the elapsed time t = k h. The anchor is renewed when the state is not the one
+  // the last call left (a kick changed v_B, an override moved x), or h, g or λ changed; x and v
+  // are then taken from where the last call left them when that part of the state is unchanged
+  // (so that converting v_B and x to and from the motor does not make them random-walk).
   const bool same_lambda = valid && cache.key_lambda == lambda;
-  if (!same_lambda || cache.key_trans != state.omega_B.trans) {
-    cache.v_W = r0 * (lambda * state.omega_B.trans);
+  const bool same_v = same_lambda && cache.key_trans == state.omega_B.trans;
+  const bool same_x = same_lambda && cache.key_q == state.M_WB.dualQuaternion().coeffs();
+  if (!same_v || !same_x || cache.com_h != h || cache.com_g != g_W) {
+    cache.x_a = same_x ? cache.x_W : state.M_WB.translation(lambda);
+    cache.v_a = same_v ? cache.v_W : Eigen::Vector3d(r0 * (lambda * state.omega_B.trans));
+    cache.com_steps = 0;
+    cache.com_h = h;
+    cache.com_g = g_W;
   }
-  if (!same_lambda || cache.key_q != state.M_WB.dualQuaternion().coeffs()) {
-    cache.x_W = state.M_WB.translation(lambda);
+  cache.com_steps += 1;
+  {
+    const double t = cache.com_steps * h;
+    cache.x_W = cache.x_a + cache.v_a * t + (0.5 * t * t) * g_W;
+    cache.v_W = cache.v_a + g_W * t;
   }
   const Eigen::Vector3d& v_W = cache.v_W;
-  cache.x_W += h * v_W;
 
   Eigen::Quaterniond r = r0;
   Eigen::Vector3d w_new = w;
   FreeFlowCache& c = cache;
+  // The elapsed time since the anchor, t = k h (free_flow.h): a new anchor when the cache was
+  // rebuilt or the step size changed.
+  if (!valid || c.anchor_h != h) {
+    c.anchor_h = h;
+    c.anchor_steps = 0;
+    c.psi_a = c.psi;
+    c.psi3_a = c.psi3;
+    c.tau_a = c.tau;
+    c.g_a = c.g_tau;
+    c.rho_a = c.rho;
+  }
+  c.anchor_steps += 1;
+  const double t = c.anchor_steps * h;
   switch (c.path) {
     case Path::kNone:
     case Path::kStill:
       break;
     case Path::kUniform:
-      c.psi = reduceAngle(c.psi + c.rate * h);
+      c.psi = reduceAngle(c.psi_a + c.rate * t);
       r = c.Q * axisAngle(c.axis, c.psi);
       break;
     case Path::kSymmetric: {
-      c.psi = reduceAngle(c.psi + c.rate * h);
-      c.psi3 = reduceAngle(c.psi3 + c.beta * h);
+      c.psi = reduceAngle(c.psi_a + c.rate * t);
+      c.psi3 = reduceAngle(c.psi3_a + c.beta * t);
       r = c.Q * axisAngle(c.axis, c.psi) * axisAngle(Eigen::Vector3d::UnitZ(), c.psi3);
       // w_B = Rot(e3, −ψ3) w_B(0).
       const double s = std::sin(c.psi3), co = std::cos(c.psi3);
@@ -375,18 +400,19 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       break;
     }
     case Path::kElliptic: {
-      double tau = c.tau + c.omega_p * h;
+      // m whole half periods 2K since the anchor, each flipping the sign ρ and adding Δψ_half.
+      double tau = c.tau_a + c.omega_p * t;
       double m = 0.0;
       if (std::abs(tau) > c.K) {
         m = std::nearbyint(tau / (2.0 * c.K));
         tau = std::fma(-2.0 * c.K, m, tau);
-        if (std::fmod(m, 2.0) != 0.0) c.rho = -c.rho;
         if (!c.dpsi_half_ready) computeHalfPeriodGain(c);
       }
+      c.rho = std::fmod(m, 2.0) != 0.0 ? -c.rho_a : c.rho_a;
       double sn, cn, dn;
       jacobiSnCnDn(tau, c, sn, cn, dn);
       const double g = periodicPsi(c, sn, cn, dn);
-      c.psi = reduceAngle(c.psi + (c.rate * h + m * c.dpsi_half + (g - c.g_tau)));
+      c.psi = reduceAngle(c.psi_a + (c.rate * t + m * c.dpsi_half + (g - c.g_a)));
       c.tau = tau;
       c.g_tau = g;
       const Eigen::Vector3d L = ellipticL(c, sn, cn, dn);
@@ -395,10 +421,10 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       break;
     }
     case Path::kSeparatrix: {
-      const double tau = c.tau + c.omega_p * h;
+      const double tau = c.tau_a + c.omega_p * t;
       const double sn = std::tanh(tau), cn = 1.0 / std::cosh(tau);
       const double g = separatrixPsi(c, sn, cn);
-      c.psi = reduceAngle(c.psi + (c.rate * h + (g - c.g_tau)));
+      c.psi = reduceAngle(c.psi_a + (c.rate * t + (g - c.g_a)));
       c.tau = tau;
       c.g_tau = g;
       const Eigen::Vector3d L = ellipticL(c, sn, cn, cn);

@@ -15,8 +15,9 @@ void kick(const Inertia& inertia, const Loads& loads, double lambda, double tau,
 
 void ExactIntegrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
                            BodyState& state) {
-  if (loads.empty()) {
-    exactFreeFlow(inertia, lambda, h, state, cache_);
+  if (!loads.hasApplied()) {
+    // Free, or under gravity alone (no torque): the closed form, parabola included.
+    exactFreeFlow(inertia, lambda, h, state, cache_, loads.gravity());
     return;
   }
   // Strang splitting: K(h/2) F(h) K(h/2).

@@ -231,6 +231,48 @@ TEST(ExactFreeFlow, NStepsEqualOneLongStep) {
   }
 }
 
+// Truth: the semigroup property once more, over 10⁶ steps: 10⁶ steps of h = 1 ms against one
+// step of 1000 s. The phases are evaluated from the elapsed time (free_flow.h), so both sides
+// carry only the rounding of rate·t, ω_p t and the attitude built from them: a few ulps of the
+// largest phase Φ = |w|max · T (the conditioning floor; ≈ 3000 rad here, whose ulp is 4.5e-13).
+// Tolerance: 16 ε (1 + Φ) ≈ 1.1e-11, about 24 ulps of Φ. Phases accumulated step by step, as
+// before, drifted by ≈ 6e-17 rad per step (one rounding of the reduced phase each step; measured
+// on the tennis racket by bench_work_precision): ≈ 6e-11 after 10⁶ steps, which fails it.
+TEST(ExactFreeFlow, MillionStepsEqualOneLongStepToRoundOff) {
+  struct Case {
+    const char* name;
+    Eigen::Vector3d J;
+  };
+  const Case cases[] = {{"spherical", {2.0, 2.0, 2.0}},
+                        {"symmetric", {2.0, 2.0, 3.0}},
+                        {"tennis racket", {1.0, 2.0, 3.0}}};
+  std::mt19937 rng(12);
+  const double h = 1e-3;
+  const int n = 1000000;
+  for (const Case& c : cases) {
+    const Inertia I = principal(c.J);
+    // Near the intermediate axis for the racket: it flips (≈ 100 flips in 1000 s).
+    const Eigen::Vector3d w0(0.05, 3.0, 0.05);
+    const BodyState s0 = makeState(randomRotation(rng), Eigen::Vector3d(1.0, -2.0, 0.5), w0,
+                                   Eigen::Vector3d(0.2, -0.7, 1.1), 1.0);
+    const BodyState a = flowSteps(I, 1.0, s0, h, n);
+    const BodyState b = flowSteps(I, 1.0, s0, n * h, 1);
+    const double phase = w0.norm() * n * h;
+    const double tol = 16 * kEps * (1.0 + phase);
+    const double d_rot = rotorDistance(a.M_WB.rotation(), b.M_WB.rotation());
+    const double d_w = (a.omega_B.rot - b.omega_B.rot).norm() / w0.norm();
+    const double d_x =
+        (comPosition_W(a, 1.0) - comPosition_W(b, 1.0)).norm() / comPosition_W(b, 1.0).norm();
+    EXPECT_LE(d_rot, tol) << c.name;
+    EXPECT_LE(d_w, tol) << c.name;
+    EXPECT_LE(d_x, 64 * kEps) << c.name;  // x_W + k h v_W, summed with compensation
+    std::printf(
+        "[ info ] %-13s 1e6 steps of 1 ms vs one of 1000 s: attitude %.1e, w %.1e, "
+        "x %.1e (tolerance %.1e)\n",
+        c.name, d_rot, d_w, d_x, tol);
+  }
+}
+
 // ---- Conservation ---------------------------------------------------------------------------
 // Truth: world L and T are constants of the free motion (and |L| exactly). Tolerance: the flow
 // never compounds rotations (L_B from the elliptic phase, R = Q Rot(u, ψ) P⁻¹ with Q u = L̂_W),
@@ -490,6 +532,34 @@ TEST(ExactIntegrator, GravityAloneGivesTheExactParabolaWhileSpinning) {
   const BodyState f = flowSteps(I, lambda, free0, 10.0, 1);
   EXPECT_LE(rotorDistance(s.M_WB.rotation(), f.M_WB.rotation()), 1e-11);
   std::printf("[ info ] gravity parabola over 10 s: |Δx|/|x| %.1e, |Δv|/|v| %.1e\n", dx, dv);
+}
+
+// Truth: the exact parabola x0 + v0 t + ½ g t² over 10⁷ steps (h = 0.1 ms, t = 1000 s) while
+// the body spins. Each step rounds v (the kicks, the rotation of v_B to the world) by a few ε
+// in no fixed direction, so x wanders like a random walk: ≈ ε √N · |x| ≈ 1e-13 relative; the
+// compensated sum keeps the additions themselves from adding N roundings of the same sign
+// (≈ N ε ≈ 2e-9, what accumulating x_W += h v_W gave). Tolerance 1e-11 relative: 100× the
+// random walk, 200× below the linear drift.
+TEST(ExactIntegrator, TenMillionStepsUnderGravityStayOnTheParabola) {
+  const Inertia I = principal({0.05, 0.1, 0.13}, 2.0);
+  std::mt19937 rng(9);
+  const Eigen::Quaterniond R0 = randomRotation(rng);
+  const Eigen::Vector3d x0(1.0, -2.0, 3.0), v0_W(2.0, 1.0, 8.0), g(0.0, 0.0, -9.81);
+  const double lambda = 1.0, h = 1e-4;
+  const int n = 10000000;
+  BodyState s = makeState(R0, x0, Eigen::Vector3d(3.0, -4.0, 2.5), R0.conjugate() * v0_W, lambda);
+  Loads loads;
+  loads.setGravity(g);
+  ExactIntegrator integrator;
+  for (int i = 0; i < n; ++i) integrator.step(I, loads, lambda, h, s);
+  const double t = n * h;
+  const Eigen::Vector3d x = x0 + v0_W * t + 0.5 * g * t * t, v = v0_W + g * t;
+  const double dx = (comPosition_W(s, lambda) - x).norm() / x.norm();
+  const double dv = (comVelocity_W(s, lambda) - v).norm() / v.norm();
+  EXPECT_LE(dx, 1e-11);
+  EXPECT_LE(dv, 1e-11);
+  std::printf("[ info ] gravity parabola over 1e7 steps (1000 s): |Δx|/|x| %.1e, |Δv|/|v| %.1e\n",
+              dx, dv);
 }
 
 // Truth: with a torque the splitting is second order: against RK4 at h = 1e-5 (error ~1e-18),

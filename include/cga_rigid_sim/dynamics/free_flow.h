@@ -1,6 +1,8 @@
 // The exact torque-free motion of one rigid body (Euler–Poinsot), written as motor updates.
 //
-// The centre of mass moves on a straight line, x_W(t + h) = x_W(t) + h v_W. The attitude follows
+// The centre of mass moves on a straight line, x_W(t) = x_W(0) + v_W t, or on the parabola
+// x_W(0) + v_W(0) t + ½ g t² under a uniform acceleration g (gravity: no torque, so the attitude
+// is still the free one). The attitude follows
 // the closed-form solution of the free rigid body, by inertia class:
 //   spherical:  w is constant in the body; R(t) = R(0) Rot_B(ŵ, |w| t).
 //   symmetric:  the symmetric-top rotor solution (doc/conventions.md (E21); J1 = J2, distinct
@@ -17,14 +19,17 @@
 //               free rigid body motion and its use in splitting methods", SIAM J. Sci. Comput.
 //               30 (2008) 2084–2112, and Landau & Lifshitz, Mechanics, §37.)
 //
-// The phases are accumulated step by step: each call adds its increment to the running angles
-// kept in the cache (ψ += rate·h about L or ŵ, ψ3 += β h about e3, the elliptic phase τ += ω_p h
-// with the periodic part of ψ re-evaluated at the new τ and whole half periods added), reduced to
-// [−π, π] (on the elliptic path τ to [−K, K]); the centre of mass likewise, x_W += h v_W. The
-// rotor is then rebuilt in closed form from those angles, never by compounding step rotations, so
-// world L, |L| and T are kept to round-off at every step. The round-off of the accumulated sums
-// does grow with the number of steps: N steps of h equal one step of N h only up to it
-// (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
+// The phases are evaluated from the elapsed time, not accumulated: the cache keeps the angles
+// of an anchor (the state it was built from, or the last change of step size) and the number k
+// of steps of h taken since, and each call sets ψ = ψ_a + rate·t (uniform, symmetric),
+// ψ3 = ψ3_a + β t (symmetric), τ = τ_a + ω_p t with ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) −
+// g(τ_a) (elliptic; m whole half periods, τ_r reduced to [−K, K]), t = k h, each reduced once
+// to [−π, π]. So the round-off of a phase is a few ulps of the phase itself — the conditioning
+// floor, set by the rounding of the rates — however many steps it took. The centre of mass
+// likewise: x_W = x_a + v_a t + ½ g t² from its own anchor (renewed when a kick changes v). The
+// rotor is rebuilt in closed form from those angles, never by compounding
+// step rotations, so world L, |L| and T are kept to round-off at every step, and N steps of h
+// equal one step of N h to round-off (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
 #pragma once
 
 #include <Eigen/Core>
@@ -58,15 +63,27 @@ struct FreeFlowCache {
   Eigen::Vector3d key_J = Eigen::Vector3d::Zero();
   Eigen::Vector4d key_r = Eigen::Vector4d::Zero();  ///< rotor quaternion coefficients (x, y, z, w)
   Eigen::Vector3d key_w = Eigen::Vector3d::Zero();
-  // The centre of mass: world v_W is constant in the free flow and x_W moves by h v_W. Both are
-  // kept here, with the body-axes v_B/λ, the motor's dual part and λ they were left as, so that
-  // converting v_B and x to and from the motor every step does not make |v| and x random-walk
-  // (they are recomputed from the state whenever it changed: a kick changes v_B, not x).
+  // The centre of mass: its anchor (x_a, v_a, world), the step size and acceleration it was
+  // taken with and the steps since, and the x_W, v_W the last call left; with the body-axes
+  // v_B/λ, the motor's dual part and λ of that state, to tell whether the next call continues
+  // from it (then x and v come from here, not from the motor: no random walk).
   Eigen::Vector3d key_trans = Eigen::Vector3d::Zero();
   Eigen::Vector4d key_q = Eigen::Vector4d::Zero();  ///< motor dual part coefficients
   double key_lambda = 0;
+  Eigen::Vector3d x_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d com_g = Eigen::Vector3d::Zero();
+  double com_h = 0;
+  double com_steps = 0;
   Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d x_W = Eigen::Vector3d::Zero();
+
+  // The anchor the phases are evaluated from: their values when the cache was built or the
+  // step size last changed, the step size, and the number of steps taken since (a double:
+  // exact up to 2^53 steps).
+  double anchor_h = 0;
+  double anchor_steps = 0;
+  double psi_a = 0, psi3_a = 0, tau_a = 0, g_a = 0, rho_a = 1;
 
   // Every path: R(t) = Q Rot(axis, psi) [...], psi = angle turned since the cache was built
   // (kept reduced to [−π, π]).
@@ -109,16 +126,18 @@ struct FreeFlowCache {
   double agm_limit = 1;
 };
 
-/// Exact torque-free motion over h: the centre of mass moves on a straight line (x += h v_W),
-/// the attitude follows the exact Euler–Poinsot solution. Exact to round-off at any h (also
-/// h < 0). `cache` belongs to this body; pass the same object on every call (it is rebuilt
-/// whenever the incoming state is not the one the previous call left).
+/// Exact torque-free motion over h: the centre of mass moves on a straight line, or on the
+/// parabola of a uniform acceleration g_W (gravity), the attitude follows the exact
+/// Euler–Poinsot solution. Exact to round-off at any h (also h < 0), and N steps of h equal one
+/// step of N h to round-off. `cache` belongs to this body; pass the same object on every call
+/// (it is rebuilt whenever the incoming state is not the one the previous call left).
 /// @param inertia principal moments (B is the principal frame; symmetric bodies have J1 = J2)
 /// @param lambda  the CGA length scale λ (the result does not depend on it beyond round-off)
 /// @param h       the time step, s
 /// @param state   M_WB and Ω_B = (w, v/λ), advanced in place
+/// @param g_W     uniform acceleration of the centre of mass, world axes, m/s² (no torque)
 void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& state,
-                   FreeFlowCache& cache);
+                   FreeFlowCache& cache, const Eigen::Vector3d& g_W = Eigen::Vector3d::Zero());
 
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -16,9 +16,13 @@
 // i.e. of Touma & Wisdom (1994) and Dullweber, Leimkuhler & McLachlan (1997) with the free
 // rotation solved exactly instead of split into axis rotations.
 //
-// Order: exact (to round-off) without loads, and for gravity or any force through the centre of
-// mass fixed in the world (the kicks then only change v, by a constant acceleration, for which
-// kick–drift–kick is exact: the centre of mass follows the parabola whatever the spin);
+// Under gravity alone (no applied load) there is no torque and no splitting: the free flow takes
+// the uniform acceleration and puts the centre of mass on its parabola in closed form, from the
+// elapsed time (free_flow.h), so 10⁷ steps stay on it to round-off. Order: exact (to round-off)
+// without loads and under gravity; exact also for a force through the centre of mass fixed in
+// the world (the kicks then only change v, by a constant acceleration, for which kick–drift–kick
+// is exact: the centre of mass follows the parabola whatever the spin, to a round-off that
+// grows with the steps);
 // 2 with torques (symmetric, time-reversible; symplectic/Lie–Poisson for conservative torques).
 // Conserved: without loads, world L, T and |L| to round-off, and M M̃ = 1 (every motor is built
 // in closed form, never compounded); with loads, M M̃ = 1, and the energy of a conservative
