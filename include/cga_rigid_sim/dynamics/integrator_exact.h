@@ -4,8 +4,8 @@
 // form (Jacobi elliptic functions and the elliptic integral of the third kind for asymmetric
 // bodies, the symmetric-top rotor solution (doc/conventions.md (E21)) for symmetric ones) and a
 // straight line for the centre of mass. It is exact at any step size: N steps of h equal one
-// step of N h up to round-off, which grows with N because the phases are accumulated step by
-// step (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
+// step of N h to round-off, the phases being evaluated from the elapsed time
+// (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
 //
 // With loads, one step is the symmetric (Strang) splitting
 //   S(h) = K(h/2) F(h) K(h/2),
