@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/scene/scene_summary.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
@@ -182,6 +183,9 @@ TEST(CollisionShapes, StaticBodiesKeepTheirShapesAsObstacles) {
   EXPECT_NE(scene->warnings[0].find("link 'world' is the world frame: its collisions are ignored"),
             std::string::npos)
       << scene->warnings[0];
+  const std::string summary = sceneSummary(*scene, "auto");
+  EXPECT_NE(summary.find("    collision shapes: 2 (1 box, 1 cylinder)\n"), std::string::npos)
+      << summary;
 }
 
 // --- contact parameters -------------------------------------------------------------------
@@ -348,6 +352,21 @@ TEST(CollisionShapes, MeshVerticesAreTheFilesScaledAndOpenMeshesAreAccepted) {
     EXPECT_GT(n.dot(inverse_transpose.cwiseProduct(n_file)), 0.0) << "triangle " << t;
   }
   fs::remove_all(dir);
+}
+
+TEST(CollisionShapes, SummaryCountsShapesByKind) {
+  const auto scene = loadUrdfString(kTwoLinks, "two", SceneOptions());
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  const std::string text = sceneSummary(*scene, "auto");
+  EXPECT_NE(text.find("    links: base, arm (merged by fixed joint weld)\n"
+                      "    collision shapes: 3 (1 box, 1 sphere, 1 cylinder)\n"),
+            std::string::npos)
+      << text;
+  const auto bare = loadUrdfFile(std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/tennis_racket.urdf",
+                                 SceneOptions());
+  ASSERT_TRUE(bare.ok()) << bare.error();
+  // A body without shapes adds no line (the summary of 20 bodies stays on one screen).
+  EXPECT_EQ(sceneSummary(*bare, "auto").find("collision shapes"), std::string::npos);
 }
 
 }  // namespace
