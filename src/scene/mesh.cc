@@ -140,6 +140,14 @@ TriangleMesh weldVertices(const TriangleMesh& mesh) {
   return out;
 }
 
+TriangleMesh scaledMesh(const TriangleMesh& mesh, const Eigen::Vector3d& scale) {
+  TriangleMesh out = mesh;
+  for (auto& x : out.vertices) x = x.cwiseProduct(scale);
+  if (scale.prod() < 0)
+    for (auto& t : out.triangles) std::swap(t[1], t[2]);
+  return out;
+}
+
 Result<TriangleMesh> readStl(const std::string& bytes, const std::string& name) {
   if (bytes.size() >= 84) {
     const std::uint32_t n = readU32(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);

@@ -13,6 +13,23 @@ namespace {
 
 constexpr int kDigits = 6;  // significant digits of the summary's numbers: one screen
 
+// The count by kind, e.g. "3 (2 box, 1 mesh)".
+std::string shapeCounts(const BodyModel& body) {
+  using Kind = CollisionShape::Kind;
+  std::ostringstream os;
+  os << body.shapes.size() << " (";
+  const char* separator = "";
+  for (const Kind kind : {Kind::kBox, Kind::kSphere, Kind::kCylinder, Kind::kMesh}) {
+    const auto n = std::count_if(body.shapes.begin(), body.shapes.end(),
+                                 [&](const CollisionShape& s) { return s.kind == kind; });
+    if (n == 0) continue;
+    os << separator << n << " " << toString(kind);
+    separator = ", ";
+  }
+  os << ")";
+  return os.str();
+}
+
 }  // namespace
 
 std::string sceneSummary(const Scene& scene, const std::string& integrator) {
@@ -65,6 +82,8 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
       os << ")";
     }
     os << "\n";
+    // Only bodies with shapes get the line: a scene without contacts keeps its one screen.
+    if (!b.shapes.empty()) os << "    collision shapes: " << shapeCounts(b) << "\n";
   }
   if (scene.bodies.size() > kMaxListed)
     os << "  ... and " << scene.bodies.size() - kMaxListed << " more bodies\n";

@@ -1,11 +1,13 @@
 // URDF → Scene (doc/urdf.md).
 //
-// Pipeline: (1) our own XML pass (urdf_xml.cc: structure, numbers, extension element, tree),
-// (2) urdfdom parses the model, (3) each link's mass properties in its own frame, from <inertial>
-// or from collision geometry, validated per link, (4) bodies: links joined by fixed joints
-// merge into one body (composite mass, centre of mass, parallel-axis inertia), floating joints
-// start free bodies, links fixed to the world frame form static bodies, (5) the initial state
-// (initial_state.cc). Any error returns before a Scene exists: never a partial scene.
+// Pipeline: (1) our own XML pass (urdf_xml.cc: structure, numbers, collisions and their contact
+// parameters, extension elements, tree), (2) urdfdom parses the model, (3) each link's collision
+// meshes are read and its mass properties found in its own frame, from <inertial> or from
+// collision geometry, validated per link, (4) bodies: links joined by fixed joints merge into
+// one body (composite mass, centre of mass, parallel-axis inertia, the links' collision shapes
+// placed in B), floating joints start free bodies, links fixed to the world frame form static
+// bodies, (5) the initial state (initial_state.cc). Any error returns before a Scene exists:
+// never a partial scene.
 //
 // Initial-state dictionary (SceneOptions::initial_state; ROS parameter ~initial_state; full
 // text in doc/initial_state.md). A map from body name (= the body's root link name) to a map of
@@ -39,6 +41,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <unordered_map>
@@ -102,8 +105,11 @@ class Loader {
   std::optional<Error> checkOptions() const;
   std::optional<Error> crossCheck(const urdf::ModelInterface& model) const;
   Result<LinkMass> linkMassFromInertial(const urdf::Link& link);
-  Result<LinkMass> linkMassFromGeometry(const urdf::Link& link,
-                                        const detail::MassFromGeometry& spec) const;
+  std::optional<Error> loadCollisionMeshes(const std::string& link,
+                                           std::vector<detail::CollisionGeometry>* collisions);
+  Result<LinkMass> linkMassFromGeometry(
+      const std::string& link, const detail::MassFromGeometry& spec,
+      const std::vector<detail::CollisionGeometry>& collisions) const;
   Result<BodyModel> buildBody(const BodyRoot& root, std::vector<BodyRoot>* more_roots);
   std::vector<urdf::JointSharedPtr> childJoints(const urdf::Link& link) const;
 
@@ -113,6 +119,7 @@ class Loader {
   detail::UrdfXml xml_;
   const urdf::ModelInterface* model_ = nullptr;
   std::unordered_map<std::string, LinkMass> masses_;
+  std::map<std::string, TriangleMesh> meshes_;  // by resolved path: each file read once
   std::vector<std::string> warnings_;
 };
 
@@ -141,6 +148,23 @@ std::optional<Error> Loader::crossCheck(const urdf::ModelInterface& model) const
       return fail(it->second.line, "link " + inQuotes(name) +
                                        ": urdfdom could not read its <inertial> (see its "
                                        "console message); refusing rather than guessing");
+    // The collision shapes: the same number, in the same order, of the same kinds.
+    const auto& ours = it->second.collisions;
+    bool same = link->collision_array.size() == ours.size();
+    for (std::size_t k = 0; same && k < ours.size(); ++k) {
+      const urdf::GeometrySharedPtr& g = link->collision_array[k]->geometry;
+      using Kind = CollisionShape::Kind;
+      const int urdfdom_type = g ? g->type : -1;
+      const int our_type = ours[k].shape.kind == Kind::kBox        ? urdf::Geometry::BOX
+                           : ours[k].shape.kind == Kind::kSphere   ? urdf::Geometry::SPHERE
+                           : ours[k].shape.kind == Kind::kCylinder ? urdf::Geometry::CYLINDER
+                                                                   : urdf::Geometry::MESH;
+      same = urdfdom_type == our_type;
+    }
+    if (!same)
+      return fail(it->second.line, "link " + inQuotes(name) +
+                                       ": urdfdom read its <collision> elements differently "
+                                       "from the loader; refusing rather than guessing");
   }
   return std::nullopt;
 }
@@ -204,42 +228,65 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
   return out;
 }
 
+// Every collision mesh of a link: its file name resolved, the file read (once per file) and the
+// URDF scale applied, in the shape frame S. Errors end with "[collision '<name>']".
+std::optional<Error> Loader::loadCollisionMeshes(
+    const std::string& link, std::vector<detail::CollisionGeometry>* collisions) {
+  const std::string owner = "link " + inQuotes(link) + ": ";
+  for (detail::CollisionGeometry& g : *collisions) {
+    if (g.shape.kind != CollisionShape::Kind::kMesh) continue;
+    const std::string tag = " [collision " + inQuotes(g.shape.name) + "]";
+    const auto path = resolveMeshPath(g.filename, base_dir_);
+    if (!path) return fail(g.geometry_line, owner + path.error() + tag);
+    auto read = meshes_.find(*path);
+    if (read == meshes_.end()) {
+      auto mesh = readMeshFile(*path);
+      if (!mesh) return fail(g.geometry_line, owner + mesh.error() + tag);
+      read = meshes_.emplace(*path, std::move(*mesh)).first;
+    }
+    if (read->second.triangles.empty())
+      return fail(g.geometry_line, owner + "mesh " + inQuotes(*path) +
+                                       " has no triangles: a collision mesh needs at least one" +
+                                       tag);
+    g.shape.mesh_file = *path;
+    g.shape.mesh = scaledMesh(read->second, g.scale);
+  }
+  return std::nullopt;
+}
+
 // <cga_rigid_sim:mass_from_geometry>: the collision shapes, each in its origin frame, summed
 // (they are taken as disjoint), with the given density or scaled to the given mass.
-Result<Loader::LinkMass> Loader::linkMassFromGeometry(const urdf::Link& link,
-                                                      const detail::MassFromGeometry& spec) const {
-  using Kind = detail::CollisionGeometry::Kind;
-  const std::string owner = "link " + inQuotes(link.name);
+Result<Loader::LinkMass> Loader::linkMassFromGeometry(
+    const std::string& link, const detail::MassFromGeometry& spec,
+    const std::vector<detail::CollisionGeometry>& collisions) const {
+  using Kind = CollisionShape::Kind;
+  const std::string owner = "link " + inQuotes(link);
   const double density = spec.by_mass ? 1.0 : spec.density;
   std::vector<MassProperties> parts;
-  for (const auto& g : spec.parts) {
+  for (const auto& g : collisions) {
+    const CollisionShape& s = g.shape;
     MassProperties p;
-    switch (g.kind) {
+    switch (s.kind) {
       case Kind::kBox:
-        p = boxMassProperties(g.size, density);
+        p = boxMassProperties(s.size, density);
         break;
       case Kind::kCylinder:
-        p = cylinderMassProperties(g.radius, g.length, density);
+        p = cylinderMassProperties(s.radius, s.length, density);
         break;
       case Kind::kSphere:
-        p = sphereMassProperties(g.radius, density);
+        p = sphereMassProperties(s.radius, density);
         break;
       case Kind::kMesh: {
-        const auto path = resolveMeshPath(g.filename, base_dir_);
-        if (!path) return fail(g.line, owner + ": " + path.error());
-        auto mesh = readMeshFile(*path);
-        if (!mesh) return fail(g.line, owner + ": " + mesh.error());
-        for (auto& x : mesh->vertices) x = x.cwiseProduct(g.scale);
-        // A mirroring scale turns the winding inside out: swap it back.
-        if (g.scale.prod() < 0)
-          for (auto& t : mesh->triangles) std::swap(t[1], t[2]);
-        auto mp = meshMassProperties(*mesh, density, *path);
-        if (!mp) return fail(g.line, owner + ": " + mp.error());
+        // Only here must a mesh be closed: a volume needs a closed surface.
+        auto mp = meshMassProperties(s.mesh, density, s.mesh_file);
+        if (!mp)
+          return fail(g.geometry_line,
+                      owner + ": " + mp.error() + " [collision " + inQuotes(s.name) + "]");
         p = *mp;
         break;
       }
     }
-    parts.push_back(transformed(p, g.X_LG));
+    parts.push_back(transformed(p, g.X_LS));
   }
   LinkMass out;
   out.massive = true;
@@ -337,8 +384,17 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>*
     body.inertia = *inertia;
   }
   const Eigen::Isometry3d X_BR = X_RB.inverse();
-  for (const auto& [link, X_RL] : links)
-    body.links.push_back({link->name, cga::Motor::fromIsometry(X_BR * X_RL, lambda)});
+  for (const auto& [link, X_RL] : links) {
+    const Eigen::Isometry3d X_BL = X_BR * X_RL;
+    // Each link's shapes move into its one body (the XML reading is not needed after this).
+    for (detail::CollisionGeometry& g : xml_.links.at(link->name).collisions) {
+      CollisionShape shape = std::move(g.shape);
+      shape.M_BS = cga::Motor::fromIsometry(X_BL * g.X_LS, lambda);
+      shape.link_index = static_cast<int>(body.links.size());
+      body.shapes.push_back(std::move(shape));
+    }
+    body.links.push_back({link->name, cga::Motor::fromIsometry(X_BL, lambda)});
+  }
   body.M_WB0 = cga::Motor::fromIsometry(root.X_WR * X_RB, lambda);
   return body;
 }
@@ -368,15 +424,20 @@ Result<Scene> Loader::load(const std::string& xml) {
   const urdf::LinkConstSharedPtr root = model->getRoot();
   const bool rooted_in_world = root->name == options_.world_frame;
   for (const auto& [name, link] : model->links_) {
-    const detail::LinkXml& lx = xml_.links.at(name);
+    detail::LinkXml& lx = xml_.links.at(name);
     if (rooted_in_world && name == options_.world_frame) {
       if (lx.has_inertial || lx.has_mass_from_geometry)
         warnings_.push_back(source_ + ":" + std::to_string(lx.line) + ": link " + inQuotes(name) +
                             " is the world frame: its mass is ignored");
+      if (!lx.collisions.empty())
+        warnings_.push_back(source_ + ":" + std::to_string(lx.line) + ": link " + inQuotes(name) +
+                            " is the world frame: its collisions are ignored (to make an "
+                            "obstacle, fix a link to it with a fixed joint)");
       continue;
     }
+    if (auto err = loadCollisionMeshes(name, &lx.collisions)) return *err;
     Result<LinkMass> lm = lx.has_mass_from_geometry
-                              ? linkMassFromGeometry(*link, lx.mass_from_geometry)
+                              ? linkMassFromGeometry(name, lx.mass_from_geometry, lx.collisions)
                           : link->inertial ? linkMassFromInertial(*link)
                                            : LinkMass{};
     if (!lm) return Error{lm.error()};
@@ -409,7 +470,8 @@ Result<Scene> Loader::load(const std::string& xml) {
                    [&](const BodyModel& a, const BodyModel& b) {
                      return xml_.links.at(a.name).order < xml_.links.at(b.name).order;
                    });
-  scene.warnings = std::move(warnings_);
+  scene.warnings = std::move(xml_.warnings);
+  scene.warnings.insert(scene.warnings.end(), warnings_.begin(), warnings_.end());
 
   // (5) initial state.
   auto applied = applyInitialState(scene, options_.initial_state);

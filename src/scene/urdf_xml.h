@@ -5,8 +5,9 @@
 // two parent joints, a cycle of joints, an <inertial> whose numbers it cannot read is kept with
 // mass 0), and when it refuses a file its reason goes to the console, not to the caller. This
 // pass checks what the loader relies on and names the file, the line, the link or joint and the
-// rule. It also reads the extension element <cga_rigid_sim:mass_from_geometry> (urdfdom ignores
-// unknown elements) and the collision geometry of the links that use it.
+// rule. It also reads every <collision> (the links' collision shapes, collision_shape.h), the
+// extension elements <cga_rigid_sim:mass_from_geometry> and <cga_rigid_sim:contact> (urdfdom
+// ignores unknown elements), and the friction of Gazebo's <gazebo reference="link"><mu1>/<mu2>.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -15,27 +16,28 @@
 #include <vector>
 
 #include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/collision_shape.h"
 
 namespace cga_rigid_sim {
 namespace scene {
 namespace detail {
 
-/// The name of the extension element, inside a <link>.
+/// The name of the extension element for mass from geometry, inside a <link>.
 constexpr const char* kMassFromGeometryElement = "cga_rigid_sim:mass_from_geometry";
+/// The name of the extension element for contact parameters, inside a link's <collision>.
+constexpr const char* kContactElement = "cga_rigid_sim:contact";
 /// Prefix of every element of the extension.
 constexpr const char* kExtensionPrefix = "cga_rigid_sim:";
 
-/// One <collision> of a link that takes its mass from geometry.
+/// One <collision> of a link, as read: its shape (kind, sizes checked > 0, name, line, surface
+/// parameters; the mesh not loaded yet, M_BS and link_index not known yet) and what loading and
+/// placing it needs.
 struct CollisionGeometry {
-  enum class Kind { kBox, kCylinder, kSphere, kMesh };
-  Kind kind = Kind::kBox;
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();          ///< box edge lengths, m
-  double radius = 0.0;                                     ///< cylinder, sphere, m
-  double length = 0.0;                                     ///< cylinder (along z), m
+  CollisionShape shape;
   std::string filename;                                    ///< mesh, as written in the URDF
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();         ///< mesh
-  Eigen::Isometry3d X_LG = Eigen::Isometry3d::Identity();  ///< collision origin in the link
-  int line = 0;
+  Eigen::Isometry3d X_LS = Eigen::Isometry3d::Identity();  ///< the <origin>: S in the link frame
+  int geometry_line = 0;  ///< line of the shape element (<box>, <mesh>, …)
 };
 
 /// <cga_rigid_sim:mass_from_geometry density="…"/> or mass="…" (exactly one).
@@ -44,7 +46,6 @@ struct MassFromGeometry {
   double mass = 0.0;     ///< kg, > 0 when given (then density = mass / volume)
   bool by_mass = false;
   int line = 0;
-  std::vector<CollisionGeometry> parts;
 };
 
 struct LinkXml {
@@ -54,6 +55,7 @@ struct LinkXml {
   double mass = 0.0;  ///< <mass value>, as read (for the cross-check with urdfdom)
   bool has_mass_from_geometry = false;
   MassFromGeometry mass_from_geometry;
+  std::vector<CollisionGeometry> collisions;  ///< every <collision>, in document order
 };
 
 struct JointXml {
@@ -65,6 +67,7 @@ struct UrdfXml {
   std::string robot_name;
   std::unordered_map<std::string, LinkXml> links;
   std::unordered_map<std::string, JointXml> joints;
+  std::vector<std::string> warnings;  ///< e.g. Gazebo's mu1 and mu2 differ
 };
 
 /// Reads and checks the document. Every error starts with "<source>:<line>: ".

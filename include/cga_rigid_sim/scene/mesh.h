@@ -29,6 +29,11 @@ Result<TriangleMesh> readMeshFile(const std::string& path);
 Result<TriangleMesh> readStl(const std::string& bytes, const std::string& name);
 Result<TriangleMesh> readObj(const std::string& text, const std::string& name);
 
+/// The mesh with every vertex scaled per axis (URDF <mesh scale>): x ↦ scale ∘ x. A mirroring
+/// scale (negative product) turns the winding inside out, so each triangle's winding is swapped
+/// back: the right-hand rule still gives the outward normal.
+TriangleMesh scaledMesh(const TriangleMesh& mesh, const Eigen::Vector3d& scale);
+
 /// Merges vertices with bit-identical coordinates and renumbers the triangles.
 TriangleMesh weldVertices(const TriangleMesh& mesh);
 

@@ -5,7 +5,8 @@
 // body's centre of mass and its axes along the principal axes (dynamics/inertia.h); every
 // merged link keeps its frame as a constant motor M_BL so its pose M_WL = M_WB M_BL can be
 // published. Static bodies (fixed to `world`) are never stepped; their B is their root link's
-// frame.
+// frame. Every <collision> of the merged links becomes a CollisionShape of the body, at its
+// constant pose M_BS in B (collision_shape.h); static bodies keep theirs (obstacles).
 #pragma once
 
 #include <Eigen/Core>
@@ -16,6 +17,7 @@
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/motor.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/scene/collision_shape.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -34,6 +36,9 @@ struct BodyModel {
   cga::Motor M_WB0;                          ///< initial pose of B
   cga::Bivelocity omega_B0;                  ///< initial body bivelocity
   std::vector<std::string> merged_joints;    ///< fixed joints merged into this body
+  /// Every <collision> of every link in `links`, in the order of `links` and, within a link,
+  /// of the document.
+  std::vector<CollisionShape> shapes;
 };
 
 struct Scene {
