@@ -133,12 +133,12 @@ void ContactCsv::row(const std::string& engine, const std::string& config, const
 }
 
 int runContactSweep(const std::string& engine, const std::string& version, const std::vector<ContactConfig>& configs,
-                    int argc, char** argv) {
+                    int argc, char** argv, double default_pile_T) {
   std::string out_dir = BENCH_OUT_DIR, csv_path;
   std::vector<std::string> case_filter, config_filter;
   std::vector<double> hs = {5e-4, 1e-3, 2e-3}, pile_hs = {1e-3};
   int reps = 3;
-  double pile_T = 0;
+  double pile_T = default_pile_T;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {

@@ -60,8 +60,10 @@ class ContactCsv {
   void* file_;
 };
 
+// default_pile_T > 0: this engine's default simulated time of pile1000 (a
+// budget cut for slow engines, printed in the notes; --pile-T overrides).
 int runContactSweep(const std::string& engine, const std::string& version, const std::vector<ContactConfig>& configs,
-                    int argc, char** argv);
+                    int argc, char** argv, double default_pile_T = 0);
 
 }  // namespace contacts
 }  // namespace bench

@@ -159,6 +159,11 @@ class MujocoContactSim : public bench::contacts::ContactSim {
 
 void quietWarning(const char*) {}
 
+// pile1000 runs 1 s instead of 5 s here: MuJoCo 2.2.2 needs ~20 ms of CPU per
+// step already at 0.8 s (and more as the pile settles), 5 s would take longer
+// than the whole suite's budget; its buffers overflow by then anyway.
+constexpr double kPileSeconds = 1.0;
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,9 +174,12 @@ int main(int argc, char** argv) {
     };
   };
   std::vector<bench::contacts::ContactConfig> configs = {
-      {"pyramidal", make(false), {}, ""},
+      // pile1000: the pyramidal cone needs 4 constraint rows per contact, so
+      // njmax = 7000 holds only 1750 contacts (the elliptic cone 2333), far
+      // fewer than the settled pile has; measured with the elliptic cone only.
+      {"pyramidal", make(false), {"pile1000"}, "MuJoCo 2.2.2 buffer limit (4 rows per contact); see elliptic"},
       {"elliptic", make(true), {}, ""},
   };
   return bench::contacts::runContactSweep("mujoco", std::string("MuJoCo ") + mj_versionString(), configs, argc,
-                                          argv);
+                                          argv, kPileSeconds);
 }
