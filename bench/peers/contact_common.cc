@@ -175,7 +175,9 @@ int runContactSweep(const std::string& engine, const std::string& version, const
   if (csv_path.empty()) csv_path = out_dir + "/contacts_" + engine + ".csv";
   std::fprintf(stderr, "[%s] %s -> %s\n", engine.c_str(), version.c_str(), csv_path.c_str());
   ContactCsv csv(csv_path);
-  const std::string cpu_path = out_dir + "/cputime_contacts_" + engine + ".csv";
+  // Side file named so that neither the single-body tools' cputime_*.csv glob
+  // nor our contacts_*.csv glob picks it up.
+  const std::string cpu_path = out_dir + "/cpu_contacts_" + engine + ".csv";
   FILE* cpu_csv = std::fopen(cpu_path.c_str(), "w");
   if (cpu_csv) std::fprintf(cpu_csv, "engine,config,case,h,wall_ns_per_step,cpu_ns_per_step\n");
 

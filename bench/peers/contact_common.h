@@ -6,7 +6,7 @@
 //   * ns_per_step = median over `reps` (default 3) fresh simulations of the
 //     wall time (steady_clock) of the complete run to T (T/h steps) without
 //     any state read-back, divided by T/h; construction excluded. The
-//     thread-CPU time of the same runs goes to cputime_contacts_<engine>.csv.
+//     thread-CPU time of the same runs goes to cpu_contacts_<engine>.csv.
 //   * the errors come from a separate complete run that reads the state
 //     after every step (ContactMonitor).
 //   * cases marked observe_end_only (pile1000) are run once: the timed run

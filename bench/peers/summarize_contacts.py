@@ -23,7 +23,7 @@ rows, cpu = [], {}
 for path in sorted(glob.glob(os.path.join(args.out, "contacts_*.csv"))):
     with open(path) as f:
         rows += list(csv.DictReader(f))
-for path in sorted(glob.glob(os.path.join(args.out, "cputime_contacts_*.csv"))):
+for path in sorted(glob.glob(os.path.join(args.out, "cpu_contacts_*.csv"))):
     with open(path) as f:
         for r in csv.DictReader(f):
             cpu[(r["engine"], r["config"], r["case"], float(r["h"]))] = float(r["cpu_ns_per_step"])
