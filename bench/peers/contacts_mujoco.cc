@@ -16,10 +16,11 @@
 //    friction matters).
 //  * restitution: MuJoCo has NO coefficient of restitution. Contacts are soft
 //    constraints whose reference acceleration is a mass-spring-damper,
-//    a_ref = -b v - k r, set by solref = (timeconst, dampratio). With the
-//    impedance d (solimp) the constraint behaves as a linear oscillator of
-//    damping ratio exactly `dampratio` (d scales k by d and b by sqrt(d)
-//    relative to each other so that the ratio cancels). A linear damped
+//    a_ref = -b v - k r, set by solref = (timeconst tau, dampratio zeta):
+//    b = 2/(dmax tau), k = d/(dmax^2 tau^2 zeta^2), and the constrained
+//    acceleration obeys a + d (b v + k r) = (1 - d) a0 (d = impedance,
+//    solimp). So the contact is a spring d k with damper d b, whose damping
+//    ratio d b / (2 sqrt(d k)) = zeta for any (locally constant) d. A linear damped
 //    oscillator that separates when it returns to zero penetration has
 //    e = exp(-zeta pi / sqrt(1 - zeta^2)), i.e. the closest honest
 //    setting is dampratio = zeta(e) = -ln e / sqrt(pi^2 + ln^2 e):
