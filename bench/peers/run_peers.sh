@@ -2,6 +2,8 @@
 # Builds and runs the whole peer-engine sweep.
 #
 #   bench/peers/run_peers.sh            # build/peers, results in bench/out
+#   bench/peers/run_peers.sh --contacts # the contact benchmark instead (peer_contacts_<engine>,
+#                                       # bench/out/contacts_<engine>.csv, doc/benchmarks-contacts.md)
 #
 # Environment: PEER_BUILD_DIR (default <repo>/build/peers), PEER_OUT_DIR
 # (default <repo>/bench/out), PEER_JOBS (default 2: two runners at a time,
@@ -19,6 +21,12 @@
 # time grows accordingly (12 min at load average 6-18 on 2 cores).
 set -euo pipefail
 
+contacts=false
+if [[ "${1:-}" == "--contacts" ]]; then
+  contacts=true
+  shift
+fi
+
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 build="${PEER_BUILD_DIR:-$root/build/peers}"
@@ -27,8 +35,44 @@ jobs="${PEER_JOBS:-2}"
 engines="${PEER_ENGINES:-simbody mujoco bullet dart ode}"
 
 cmake -S "$here" -B "$build" >/dev/null
-cmake --build "$build" -j2 >/dev/null
 mkdir -p "$out"
+
+if $contacts; then
+  # Contact cases: MuJoCo (the slowest on pile1000) in one lane, the others in
+  # the second lane (PEER_JOBS=1: one after another). Extra arguments go to
+  # every runner (e.g. --cases bounce --hs 1e-3).
+  cmake --build "$build" -j2 --target peer_contact_benchmarks >/dev/null
+  engines="${PEER_ENGINES:-mujoco bullet ode}"
+  crunners=()
+  for e in $engines; do
+    if [[ -x "$build/peer_contacts_$e" ]]; then crunners+=("$e"); else echo "peer_contacts_$e not built: skipped"; fi
+  done
+  if [[ ${#crunners[@]} -eq 0 ]]; then echo "no contact runner built"; exit 1; fi
+  t0=$(date +%s)
+  load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
+  run_contacts() {
+    local e="$1"
+    shift
+    "$build/peer_contacts_$e" --out "$out" "$@" 2>"$out/contacts_$e.log" || echo "peer_contacts_$e failed (see $out/contacts_$e.log)"
+  }
+  if [[ "$jobs" -ge 2 && ${#crunners[@]} -ge 2 ]]; then
+    ( run_contacts "${crunners[0]}" "$@" ) &
+    lane1=$!
+    for e in "${crunners[@]:1}"; do run_contacts "$e" "$@"; done
+    wait "$lane1"
+  else
+    for e in "${crunners[@]}"; do run_contacts "$e" "$@"; done
+  fi
+  {
+    echo "# contact peer run $(date -u +%Y-%m-%dT%H:%M:%SZ), wall $(( $(date +%s) - t0 )) s, PEER_JOBS=$jobs"
+    for e in "${crunners[@]}"; do "$build/peer_contacts_$e" --version; done
+    echo "# load average (1/5/15 min) at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  } >"$out/contacts_versions.txt"
+  cat "$out/contacts_versions.txt"
+  exit 0
+fi
+
+cmake --build "$build" -j2 >/dev/null
 
 runners=()
 for e in $engines; do
