@@ -14,8 +14,9 @@
 // inertia and integrator object take a few hundred bytes to a kilobyte).
 //
 // CSV (bench/out/scaling.csv): layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,
-// real_time_factor,cpu_ns_per_body_step — real_time_factor is dt over the wall time of one step
-// (≥ 1: real time on one core); the last column is the thread CPU time per body-step.
+// real_time_factor,cpu_ns_per_body_step,threads — real_time_factor is dt over the wall time of
+// one step (≥ 1: real time); cpu_ns_per_body_step is the calling thread's CPU time per
+// body-step (with several threads, only its own share); threads is WorldConfig::threads.
 
 #include <algorithm>
 #include <chrono>
@@ -182,6 +183,7 @@ void usage() {
       "  --ns 1,10,100        body counts (default 1,10,100,1000,10000,100000)\n"
       "  --integrators a,b    (default auto,cga2,cga4)\n"
       "  --layers a,b         world, dynamics (default both)\n"
+      "  --threads 1,2        threads of the world layer (default 1; the dynamics layer: 1)\n"
       "  --body-steps S       body-steps per timing run (default 1000000)\n"
       "  --reps R             timing repetitions, median (default 3)\n"
       "  --dt DT              step, s (default 0.001)\n"
@@ -194,6 +196,7 @@ int run(int argc, char** argv) {
   std::vector<int> ns = {1, 10, 100, 1000, 10000, 100000};
   std::vector<std::string> integrators = {"auto", "cga2", "cga4"};
   std::vector<std::string> layers = {"world", "dynamics"};
+  std::vector<int> thread_counts = {1};
   long body_steps = 1000000;
   int reps = 3;
   double dt = 1e-3;
@@ -218,6 +221,10 @@ int run(int argc, char** argv) {
       integrators = splitList(next());
     } else if (a == "--layers") {
       layers = splitList(next());
+    } else if (a == "--threads") {
+      thread_counts.clear();
+      for (const std::string& t : splitList(next()))
+        thread_counts.push_back(std::max(1, std::atoi(t.c_str())));
     } else if (a == "--body-steps") {
       body_steps = std::max(1L, std::atol(next().c_str()));
     } else if (a == "--reps") {
@@ -239,7 +246,7 @@ int run(int argc, char** argv) {
   }
   std::fprintf(csv,
                "layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,real_time_factor,"
-               "cpu_ns_per_body_step\n");
+               "cpu_ns_per_body_step,threads\n");
   const double lambda = 1.0;
   const auto t_start = Clock::now();
   for (int n : ns) {
@@ -247,39 +254,43 @@ int run(int argc, char** argv) {
     const long steps = std::max(5L, (body_steps + n - 1) / n);
     for (const std::string& integrator : integrators) {
       for (const std::string& layer : layers) {
-        Timing t;
-        bool finite = true;
-        if (layer == "world") {
-          sim::WorldConfig config;
-          config.dt = dt;
-          config.integrator = integrator;
-          auto world = sim::World::create(makeScene(bodies, lambda), config);
-          if (!world) {
-            std::fprintf(stderr, "World::create: %s\n", world.error().c_str());
+        for (int threads : layer == "world" ? thread_counts : std::vector<int>{1}) {
+          Timing t;
+          bool finite = true;
+          if (layer == "world") {
+            sim::WorldConfig config;
+            config.dt = dt;
+            config.integrator = integrator;
+            config.threads = threads;
+            auto world = sim::World::create(makeScene(bodies, lambda), config);
+            if (!world) {
+              std::fprintf(stderr, "World::create: %s\n", world.error().c_str());
+              return 2;
+            }
+            WorldStepper stepper{**world};
+            t = timeSteps(stepper, steps, reps);
+          } else if (layer == "dynamics") {
+            BareLoop loop(bodies, integrator, lambda, dt);
+            t = timeSteps(loop, steps, reps);
+            finite = loop.allFinite();
+          } else {
+            std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
             return 2;
           }
-          WorldStepper stepper{**world};
-          t = timeSteps(stepper, steps, reps);
-        } else if (layer == "dynamics") {
-          BareLoop loop(bodies, integrator, lambda, dt);
-          t = timeSteps(loop, steps, reps);
-          finite = loop.allFinite();
-        } else {
-          std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
-          return 2;
+          const double ns_step = t.wall_ns / double(steps);
+          const double cpu_body = t.cpu_ns / double(steps) / double(n);
+          const double ns_body = ns_step / double(n);
+          const double rtf = dt / (ns_step * 1e-9);
+          std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g,%d\n", layer.c_str(),
+                       integrator.c_str(), n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body,
+                       threads);
+          std::fflush(csv);
+          std::fprintf(stderr,
+                       "[scaling] %-8s %-5s N=%-6d T=%d %8.1f ns/body-step (cpu %8.1f)  %9.4f "
+                       "ms/step  RTF %.3g%s\n",
+                       layer.c_str(), integrator.c_str(), n, threads, ns_body, cpu_body,
+                       ns_step * 1e-6, rtf, finite ? "" : "  NOT FINITE");
         }
-        const double ns_step = t.wall_ns / double(steps);
-        const double cpu_body = t.cpu_ns / double(steps) / double(n);
-        const double ns_body = ns_step / double(n);
-        const double rtf = dt / (ns_step * 1e-9);
-        std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g\n", layer.c_str(), integrator.c_str(),
-                     n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body);
-        std::fflush(csv);
-        std::fprintf(stderr,
-                     "[scaling] %-8s %-5s N=%-6d %8.1f ns/body-step (cpu %8.1f)  %9.4f ms/step  "
-                     "RTF %.3g%s\n",
-                     layer.c_str(), integrator.c_str(), n, ns_body, cpu_body, ns_step * 1e-6, rtf,
-                     finite ? "" : "  NOT FINITE");
       }
     }
   }

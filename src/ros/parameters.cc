@@ -2,8 +2,12 @@
 
 #include <ros/param.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
+
+#include "cga_rigid_sim/format.h"
 
 namespace cga_rigid_sim {
 namespace node {
@@ -93,9 +97,10 @@ Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key,
 
 const std::vector<std::string>& knownPrivateParams() {
   static const std::vector<std::string> kNames = {
-      "urdf_file",        "initial_state", "integrator",    "dt",          "gravity",
-      "real_time_factor", "publish_rate",  "publish_clock", "clock_rate",  "world_frame",
-      "paused",           "lambda",        "max_force",     "max_impulse", "relax_inertia"};
+      "urdf_file",  "initial_state",    "integrator",    "dt",
+      "gravity",    "real_time_factor", "publish_rate",  "publish_clock",
+      "clock_rate", "world_frame",      "paused",        "lambda",
+      "max_force",  "max_impulse",      "relax_inertia", "threads"};
   return kNames;
 }
 
@@ -198,6 +203,14 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   CGA_RIGID_SIM_READ(readNumber(pnh, "clock_rate", &p.clock_rate));
   if (p.clock_rate < 0.0) return Error{"~clock_rate: must be > 0 Hz (or unset: every step)"};
   CGA_RIGID_SIM_READ(readBool(pnh, "paused", &p.paused));
+  double threads = 0.0;  // 0: the cores available
+  CGA_RIGID_SIM_READ(readNumber(pnh, "threads", &threads));
+  if (threads != std::floor(threads) || threads < 0 || threads > sim::kMaxThreads)
+    return Error{"~threads: must be a whole number from 0 (the cores available) to " +
+                 std::to_string(sim::kMaxThreads) + " (got " + formatNumber(threads) + ")"};
+  p.world.threads = threads > 0
+                        ? static_cast<int>(threads)
+                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 #undef CGA_RIGID_SIM_READ
 
   // Unknown private parameters are most likely typos: say so (not fatal).

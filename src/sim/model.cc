@@ -50,6 +50,10 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
     return Error("config", "max_impulse",
                  "must be finite and > 0 (got " + num(config.max_impulse) + ")");
   if (config.world_frame.empty()) return Error("config", "world_frame", "must not be empty");
+  if (config.threads < 1 || config.threads > kMaxThreads)
+    return Error("config", "threads",
+                 "must be from 1 to " + std::to_string(kMaxThreads) + " (got " +
+                     std::to_string(config.threads) + ")");
   // An unknown integrator is refused even when there is no moving body.
   auto integ = dynamics::makeIntegrator(config.integrator);
   if (!integ) return Error("config", "integrator", integ.error());

@@ -5,10 +5,19 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-void integrateBodies(const Model& model, Data& data) {
+namespace {
+
+struct Bodies {
+  const Model* model;
+  Data* data;
+};
+
+// Bodies [begin, end) over one step; each reads its own data and the constant Model only.
+void integrateRange(void* context, std::size_t begin, std::size_t end) {
+  const Model& model = *static_cast<Bodies*>(context)->model;
+  Data& data = *static_cast<Bodies*>(context)->data;
   const double h = model.config.dt, lambda = model.lambda;
-  const std::size_t n = data.bodies.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     MovingBodyData& b = data.bodies[i];
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution
     // is M(t) = M): it is skipped, its state left exactly as it is.
@@ -16,6 +25,19 @@ void integrateBodies(const Model& model, Data& data) {
     b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
     if (rest) continue;
     b.integrator->step(model.moving[i].inertia, b.loads, lambda, h, b.state);
+  }
+}
+
+}  // namespace
+
+void integrateBodies(const Model& model, Data& data, WorkerPool* pool) {
+  Bodies bodies{&model, &data};
+  const std::size_t n = data.bodies.size();
+  if (pool && pool->threads() > 1 &&
+      n >= kMinBodiesPerThread * static_cast<std::size_t>(pool->threads())) {
+    pool->parallelFor(n, integrateRange, &bodies);
+  } else {
+    integrateRange(&bodies, 0, n);
   }
   ++data.step_count;
 }

@@ -7,6 +7,7 @@
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "cga_rigid_sim/sim/worker_pool.h"
 #include "input_admission.h"
 #include "state_edit.h"
 #include "topology.h"
@@ -18,6 +19,7 @@ namespace sim {
 struct World::Impl {
   Model model;
   Data data;
+  std::unique_ptr<WorkerPool> pool;  ///< null with one thread
 };
 
 World::World() = default;
@@ -29,7 +31,9 @@ Result<std::unique_ptr<World>> World::create(scene::Scene scene, const WorldConf
   auto data = makeData(*model);
   if (!data) return data.failure();
   std::unique_ptr<World> world(new World());
-  world->impl_.reset(new Impl{std::move(model.value()), std::move(data.value())});
+  const int threads = model->config.threads;
+  world->impl_.reset(new Impl{std::move(model.value()), std::move(data.value()), nullptr});
+  if (threads > 1) world->impl_->pool = std::make_unique<WorkerPool>(threads);
   return world;
 }
 
@@ -39,7 +43,7 @@ void World::step() {
   applyDueInputs(m, d);
   updateLoads(m, d);
   // Contacts and articulated joints enter here as stages of their own (doc/architecture.md).
-  integrateBodies(m, d);
+  integrateBodies(m, d, impl_->pool.get());
   expireInputs(m, d);
 }
 
