@@ -1,5 +1,7 @@
 #include "contact_common.h"
 
+#include "sweep_util.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,71 +24,10 @@ namespace bench {
 namespace contacts {
 namespace {
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ','))
-    if (!tok.empty()) out.push_back(tok);
-  return out;
-}
-
-bool selected(const std::vector<std::string>& filter, const std::string& s) {
-  return filter.empty() || std::find(filter.begin(), filter.end(), s) != filter.end();
-}
-
-double threadCpuSeconds() {
-  timespec ts;
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-// Runs fn() (returning a text) in a forked child and hands the text back
-// through a pipe. false if the child crashed, aborted or threw.
-template <class Fn>
-bool runIsolated(Fn fn, std::string* out) {
-  int fd[2];
-  if (::pipe(fd) != 0) return false;
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fd[0]);
-    ::close(fd[1]);
-    return false;
-  }
-  if (pid == 0) {
-    ::close(fd[0]);
-    int rc = 1;
-    try {
-      const std::string r = fn();
-      size_t done = 0;
-      while (done < r.size()) {
-        const ssize_t n = ::write(fd[1], r.data() + done, r.size() - done);
-        if (n <= 0) break;
-        done += size_t(n);
-      }
-      if (done == r.size()) rc = 0;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "  exception: %s\n", e.what());
-    }
-    std::fflush(nullptr);
-    ::_exit(rc);
-  }
-  ::close(fd[1]);
-  std::string r;
-  char buf[4096];
-  for (;;) {
-    const ssize_t n = ::read(fd[0], buf, sizeof buf);
-    if (n <= 0) break;
-    r.append(buf, size_t(n));
-  }
-  ::close(fd[0]);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return false;
-  *out = r;
-  return true;
-}
+using sweep::runIsolated;
+using sweep::selected;
+using sweep::splitList;
+using sweep::threadCpuSeconds;
 
 void usage(const std::string& engine) {
   std::printf(

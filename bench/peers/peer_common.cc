@@ -1,5 +1,7 @@
 #include "peer_common.h"
 
+#include "sweep_util.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,18 +24,10 @@ namespace bench {
 namespace peers {
 namespace {
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ','))
-    if (!tok.empty()) out.push_back(tok);
-  return out;
-}
-
-bool contains(const std::vector<std::string>& v, const std::string& s) {
-  return v.empty() || std::find(v.begin(), v.end(), s) != v.end();
-}
+using sweep::runIsolatedValue;
+using sweep::selected;
+using sweep::splitList;
+using sweep::threadCpuSeconds;
 
 double norm3(const std::array<double, 3>& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
@@ -45,59 +39,10 @@ bool blownUp(const Case& c, const BodyState& s) {
   return norm3(s.w_world) > 1e6 * norm3(c.w0_body);
 }
 
-// Runs fn() in a forked child and copies its result back through a pipe, so
-// that an engine abort()ing on a diverged state (DART asserts on non-finite
-// transforms, for instance) only loses that one run. Returns false if the
-// child did not deliver a result (crash, abort, exception).
-template <class T, class Fn>
-bool runIsolated(Fn fn, T* out) {
-  int fd[2];
-  if (::pipe(fd) != 0) return false;
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fd[0]);
-    ::close(fd[1]);
-    return false;
-  }
-  if (pid == 0) {
-    ::close(fd[0]);
-    int rc = 1;
-    try {
-      const T r = fn();
-      if (::write(fd[1], &r, sizeof r) == static_cast<ssize_t>(sizeof r)) rc = 0;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "  exception: %s\n", e.what());
-    }
-    std::fflush(nullptr);
-    ::_exit(rc);
-  }
-  ::close(fd[1]);
-  T r{};
-  size_t got = 0;
-  while (got < sizeof r) {
-    const ssize_t n = ::read(fd[0], reinterpret_cast<char*>(&r) + got, sizeof r - got);
-    if (n <= 0) break;
-    got += static_cast<size_t>(n);
-  }
-  ::close(fd[0]);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  if (got != sizeof r || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return false;
-  *out = r;
-  return true;
-}
-
 struct TimingSample {
   double wall_ns;  // per step
   double cpu_ns;   // per step, CPU time of the stepping thread
 };
-
-double threadCpuSeconds() {
-  timespec ts;
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 struct ErrorRun {
   Errors err;
@@ -207,7 +152,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
   std::fprintf(stderr, "[%s] %s -> %s\n", engine.c_str(), version.c_str(), csv_path.c_str());
   std::vector<std::pair<Case, Reference>> cases;
   for (const Case& c : allCases()) {
-    if (!contains(case_filter, c.name)) continue;
+    if (!selected(case_filter, c.name)) continue;
     cases.emplace_back(c, referenceSolution(c, out_dir));  // creates out_dir if needed
   }
   if (prepare_only) return 0;  // reference cache is filled
@@ -227,7 +172,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
     const Case& c = cr.first;
     const Reference& ref = cr.second;
     for (const PeerConfig& cfg : configs) {
-      if (!contains(config_filter, cfg.name)) continue;
+      if (!selected(config_filter, cfg.name)) continue;
       if (config_filter.empty() && !all_configs && !cfg.in_default_sweep) continue;
       for (double h : hs) {
         const long N = std::lround(c.T / h);
@@ -239,7 +184,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
         std::vector<double> samples, cpu_samples;
         for (int r = 0; r < reps; ++r) {
           TimingSample sample{0, 0};
-          const bool ok = runIsolated(
+          const bool ok = runIsolatedValue(
               [&]() {
                 std::unique_ptr<PeerSim> sim = cfg.make(c, h);
                 const double c0 = threadCpuSeconds();
@@ -265,7 +210,7 @@ int runSweep(const std::string& engine, const std::string& version, const std::v
         }
         // Error run: the full N steps to t = T.
         ErrorRun er{err, 1};
-        const bool ok = runIsolated(
+        const bool ok = runIsolatedValue(
             [&]() {
               ErrorRun res{Errors{inf, inf, inf, inf}, 0};
               std::unique_ptr<PeerSim> sim = cfg.make(c, h);
