@@ -87,11 +87,11 @@ int Simulator::run() {
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
                                 : "every step";
   ROS_INFO(
-      "simulator: dt %g s; real_time_factor %g%s; tf, momentum and body states at %g Hz; "
-      "/clock %s%s",
-      world_->config().dt, params_.real_time_factor,
-      params_.real_time_factor == 0.0 ? " (as fast as possible)" : "", params_.publish_rate,
-      clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
+      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum and body states at "
+      "%g Hz; /clock %s%s",
+      world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
+      params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
+      params_.publish_rate, clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
