@@ -43,6 +43,7 @@
 #include <mujoco/mujoco.h>
 
 #include "contact_common.h"
+#include "mujoco_model.h"
 
 namespace {
 
@@ -102,16 +103,7 @@ class MujocoContactSim : public bench::contacts::ContactSim {
  public:
   MujocoContactSim(const ContactCase& c, double h, bool elliptic) : n_(int(c.bodies.size())) {
     const std::string xml = modelXml(c, h, elliptic);
-    std::unique_ptr<mjVFS> vfs(new mjVFS);
-    mj_defaultVFS(vfs.get());
-    if (mj_makeEmptyFileVFS(vfs.get(), "model.xml", static_cast<int>(xml.size())) != 0)
-      throw std::runtime_error("mj_makeEmptyFileVFS failed");
-    const int idx = mj_findFileVFS(vfs.get(), "model.xml");
-    std::memcpy(vfs->filedata[idx], xml.data(), xml.size());
-    char err[1000] = "";
-    m_ = mj_loadXML("model.xml", vfs.get(), err, sizeof err);
-    mj_deleteVFS(vfs.get());
-    if (!m_) throw std::runtime_error(std::string("mj_loadXML: ") + err);
+    m_ = bench::loadMujocoModel(xml);
     d_ = mj_makeData(m_);
     for (int i = 0; i < n_; ++i)
       for (int k = 0; k < 3; ++k) d_->qvel[6 * i + k] = c.bodies[i].v0[k];

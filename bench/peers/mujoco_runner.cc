@@ -23,6 +23,7 @@
 #include <mujoco/mujoco.h>
 
 #include "peer_common.h"
+#include "mujoco_model.h"
 
 namespace {
 
@@ -52,16 +53,7 @@ class MujocoSim : public bench::peers::PeerSim {
  public:
   MujocoSim(const Case& c, double h, int integrator) {
     const std::string xml = modelXml(c, h);
-    std::unique_ptr<mjVFS> vfs(new mjVFS);
-    mj_defaultVFS(vfs.get());
-    if (mj_makeEmptyFileVFS(vfs.get(), "model.xml", static_cast<int>(xml.size())) != 0)
-      throw std::runtime_error("mj_makeEmptyFileVFS failed");
-    const int idx = mj_findFileVFS(vfs.get(), "model.xml");
-    std::memcpy(vfs->filedata[idx], xml.data(), xml.size());
-    char err[1000] = "";
-    m_ = mj_loadXML("model.xml", vfs.get(), err, sizeof err);
-    mj_deleteVFS(vfs.get());
-    if (!m_) throw std::runtime_error(std::string("mj_loadXML: ") + err);
+    m_ = bench::loadMujocoModel(xml);
     m_->opt.integrator = integrator;
     d_ = mj_makeData(m_);
     // Free joint: qpos = (x, y, z, qw, qx, qy, qz), qvel = (v_world, w_body).
