@@ -39,6 +39,18 @@ int appendBody(Model& model, scene::BodyModel body) {
 
 namespace {
 
+// A surface's rules: μ finite and ≥ 0, e in [0, 1]. Fields are <prefix>mu, <prefix>restitution
+// ("contact_mu", "ground_plane.mu").
+std::optional<Error> checkSurface(const std::string& prefix, double mu, double e) {
+  const std::string sep = prefix.back() == '.' ? "" : "_";
+  if (!std::isfinite(mu) || mu < 0)
+    return Error("config", prefix + sep + "mu", "must be finite and >= 0 (got " + num(mu) + ")");
+  if (!std::isfinite(e) || e < 0 || e > 1)
+    return Error("config", prefix + sep + "restitution",
+                 "must be in [0, 1] (got " + num(e) + ")");
+  return std::nullopt;
+}
+
 // The configuration's rules (input "config").
 std::optional<Error> checkConfig(const WorldConfig& config) {
   if (!std::isfinite(config.dt) || !(config.dt > 0))
@@ -54,6 +66,15 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
     return Error("config", "threads",
                  "must be from 1 to " + std::to_string(kMaxThreads) + " (got " +
                      std::to_string(config.threads) + ")");
+  if (auto e = checkSurface("contact", config.contact_mu, config.contact_restitution)) return e;
+  if (config.ground_plane) {
+    const GroundPlane& g = *config.ground_plane;
+    if (!std::isfinite(g.height))
+      return Error("config", "ground_plane.height", "must be finite (got " + num(g.height) + ")");
+    if (auto e = checkSurface("ground_plane.", g.surface.mu.value_or(0.0),
+                              g.surface.restitution.value_or(0.0)))
+      return e;
+  }
   // An unknown integrator is refused even when there is no moving body.
   auto integ = dynamics::makeIntegrator(config.integrator);
   if (!integ) return Error("config", "integrator", integ.error());

@@ -37,7 +37,34 @@ std::vector<MomentumReport> momentumReports(const Model& model, const Data& data
   }
   // About the system's centre of mass x_cm = Σ m x_c / Σ m: L_cm = L_origin − x_cm × P.
   if (mass > 0) total.angular = total.angular_origin - (mass_x / mass).cross(total.linear);
+  total.dissipated_energy = data.dissipated_energy;
   out.push_back(std::move(total));
+  return out;
+}
+
+std::vector<ContactReport> contactReports(const Model& model, const Data& data) {
+  std::vector<ContactReport> out;
+  out.reserve(data.contacts.size());
+  const auto names = [&model](int j, int shape, std::string& body, std::string& link) {
+    if (j == kGroundPlane) {
+      body = link = kGroundPlaneName;
+      return;
+    }
+    const scene::BodyModel& b = model.scene.bodies[j];
+    body = b.name;
+    link = b.links[b.shapes[shape].link_index].link;
+  };
+  for (const Contact& c : data.contacts) {
+    ContactReport r;
+    names(c.body_a, c.shape_a, r.body_a, r.link_a);
+    names(c.body_b, c.shape_b, r.body_b, r.link_b);
+    r.point = c.point_W;
+    r.normal = c.normal_W;
+    r.depth = c.depth;
+    r.normal_impulse = c.normal_impulse;
+    r.friction_impulse = c.friction_impulse_W;
+    out.push_back(std::move(r));
+  }
   return out;
 }
 

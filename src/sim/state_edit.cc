@@ -29,6 +29,8 @@ void resetBodies(const Model& model, Data& data) {
   dropActiveWrenches(data);
   data.queue.clear();
   data.dirty_list.clear();
+  data.contacts.clear();
+  data.dissipated_energy = 0.0;
   // Remade, not patched: a per-body datum added to MovingBodyData is reset with it.
   // (makeBodyData fails only for an unknown integrator, which compileModel refused.)
   for (std::size_t i = 0; i < data.bodies.size(); ++i)

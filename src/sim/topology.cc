@@ -105,6 +105,8 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
     data.dirty_list.resize(out);
     data.bodies.erase(data.bodies.begin() + i);
   }
+  // Contacts name bodies by index: the next step finds them again.
+  data.contacts.clear();
 
   // Model: names out, body indices after j and moving indices after i shift down by one.
   for (const auto& l : model.scene.bodies[j].links) model.link_owner.erase(l.link);

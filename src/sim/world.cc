@@ -110,6 +110,10 @@ std::size_t World::queuedInputCount() const { return impl_->data.queue.size(); }
 std::vector<MomentumReport> World::momentum() const {
   return momentumReports(impl_->model, impl_->data);
 }
+std::vector<ContactReport> World::contacts() const {
+  return contactReports(impl_->model, impl_->data);
+}
+
 std::vector<BodyStateReport> World::bodyStates() const {
   return bodyStateReports(impl_->model, impl_->data);
 }

@@ -17,6 +17,7 @@
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
 
@@ -53,6 +54,11 @@ struct Data {
   InputQueue queue;                           ///< validated inputs waiting for their step
   std::vector<ActiveWrench> active;           ///< started wrenches, in the order they started
   std::uint64_t next_expiry = kUntilCleared;  ///< smallest end_step in `active`
+
+  /// The contacts of the last step, with their impulses (stage_contacts.cc).
+  std::vector<Contact> contacts;
+  /// J taken out by contacts since the start or the last reset (MomentumReport).
+  double dissipated_energy = 0.0;
 };
 
 /// The data of a moving body at state `initial`: a fresh integrator, gravity as its only load.

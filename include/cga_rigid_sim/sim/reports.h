@@ -25,6 +25,21 @@ struct MomentumReport {
   Eigen::Vector3d angular_origin = Eigen::Vector3d::Zero();  ///< about the world origin
   double kinetic_energy = 0.0;                               ///< J
   double potential_energy = 0.0;                             ///< J, uniform gravity
+  /// J: the energy contacts have taken out since the start (or the last reset), so that
+  /// kinetic + potential + dissipated = initial + work of inputs. "total" only (0 for a body).
+  double dissipated_energy = 0.0;
+};
+
+/// A contact of the last step as users see it (doc/contacts.md): the two bodies and links by
+/// name (the ground plane is kGroundPlaneName for both), world axes, SI units.
+struct ContactReport {
+  std::string body_a, link_a;  ///< the moving body and the link whose collision touches
+  std::string body_b, link_b;  ///< the other one
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< m, world
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, from b towards a
+  double depth = 0.0;                                 ///< m, penetration (≤ 0: a gap)
+  double normal_impulse = 0.0;                        ///< N s on a along normal
+  Eigen::Vector3d friction_impulse = Eigen::Vector3d::Zero();  ///< N s on a, world
 };
 
 /// A body's state as users see it (world axes).
@@ -54,6 +69,8 @@ std::vector<BodyStateReport> bodyStateReports(const Model& model, const Data& da
 std::vector<FramePose> movingFrames(const Model& model, const Data& data);
 /// world_frame → root link of static bodies, and root link → each merged link.
 std::vector<FramePose> staticFrames(const Model& model);
+/// The contacts of the last step, in the solver's (deterministic) order.
+std::vector<ContactReport> contactReports(const Model& model, const Data& data);
 /// The integrator path per body, first 20 listed, counts per path.
 std::string worldSummary(const Model& model, const Data& data);
 

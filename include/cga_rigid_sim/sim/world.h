@@ -136,6 +136,8 @@ class World {
   std::vector<MomentumReport> momentum() const;
   /// Every moving body.
   std::vector<BodyStateReport> bodyStates() const;
+  /// The contacts of the last step (doc/contacts.md).
+  std::vector<ContactReport> contacts() const;
   /// world_frame → root link of every moving body (changes every step).
   std::vector<FramePose> movingFrames() const;
   /// world_frame → root link of static bodies, and root link → each merged link (constant).

@@ -1,10 +1,13 @@
 // WorldConfig: the settings a World is created with (the node's parameters ~dt, ~integrator,
-// ~world_frame, ~max_force, ~max_impulse, ~relax_inertia), and the fixed limits on inputs.
+// ~world_frame, ~max_force, ~max_impulse, ~relax_inertia, ~threads, ~ground_plane,
+// ~contact_mu, ~contact_restitution), and the fixed limits on inputs.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/scene/collision_shape.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -20,6 +23,13 @@ constexpr int kMaxThreads = 256;
 /// The name of the scene total in momentum().
 constexpr const char* kTotalName = "total";
 
+/// The plane z = height of the world frame, normal +z, an obstacle under every body (the node's
+/// ~ground_plane). Its surface parameters, when unset, are the defaults below.
+struct GroundPlane {
+  double height = 0.0;  ///< m, finite
+  scene::SurfaceParameters surface;
+};
+
 struct WorldConfig {
   double dt = 0.001;  ///< s, > 0
   std::string integrator = "auto";
@@ -31,6 +41,12 @@ struct WorldConfig {
   int threads = 1;
   /// For URDFs loaded by spawnUrdf (the node's ~relax_inertia).
   dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kRefuse;
+  /// The ground plane; none when unset.
+  std::optional<GroundPlane> ground_plane;
+  /// μ and e of every surface that does not set its own (the node's ~contact_mu,
+  /// ~contact_restitution): μ finite and ≥ 0, e in [0, 1].
+  double contact_mu = 0.5;
+  double contact_restitution = 0.0;
 };
 
 }  // namespace sim
