@@ -40,7 +40,8 @@ if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] ||
     ros-noetic-std-msgs ros-noetic-std-srvs ros-noetic-rosgraph-msgs
     ros-noetic-message-generation ros-noetic-message-runtime ros-noetic-rosbag
     ros-noetic-rostopic ros-noetic-rosservice ros-noetic-roslaunch ros-noetic-rostest
-    ros-noetic-rosunit ros-noetic-rosbash)
+    ros-noetic-rosunit ros-noetic-rosbash
+    ros-noetic-fcl)  # FCL ≥ 0.6 (Ubuntu 20.04's libfcl-dev is 0.5, another API)
 else
   platform=debian
   packages+=(
@@ -50,7 +51,8 @@ else
     ros-geometry-msgs librosbag-dev rosbash
     python3-rospy python3-roslaunch python3-rostest python3-rosunit python3-rosbag
     python3-rostopic python3-rosservice python3-std-msgs python3-geometry-msgs python3-std-srvs
-    python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros)
+    python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros
+    libfcl-dev)  # FCL 0.7: collision detection for contacts
 fi
 
 peer_packages=(libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev gnuplot-nox)

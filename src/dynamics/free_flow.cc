@@ -436,7 +436,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
 
   state.M_WB = cga::Motor::fromPose(r, c.x_W, lambda);
   state.omega_B.rot = w_new;
-  if (c.path != Path::kStill) state.omega_B.trans = (r.conjugate() * v_W) / lambda;
+  state.omega_B.trans = (r.conjugate() * v_W) / lambda;
   c.key_J = J;
   c.key_r = r.coeffs();
   c.key_w = w_new;

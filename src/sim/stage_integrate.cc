@@ -7,6 +7,8 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
+const dynamics::Loads kNoLoads;
+
 struct Bodies {
   const Model* model;
   Data* data;
@@ -19,6 +21,15 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
   const double h = model.config.dt, lambda = model.lambda;
   for (std::size_t i = begin; i < end; ++i) {
     MovingBodyData& b = data.bodies[i];
+    if (b.contact_step) {
+      // Kicked by its loads and contacts already: the drift of the splitting, torque-free.
+      b.contact_step = false;
+      const bool rest = b.state.omega_B.rot.isZero(0.0) && b.state.omega_B.trans.isZero(0.0);
+      b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
+      if (!rest) b.integrator->step(model.moving[i].inertia, kNoLoads, lambda, h, b.state);
+      b.integrator->reset();  // its caches hold the drift, not the body's loaded path
+      continue;
+    }
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution
     // is M(t) = M): it is skipped, its state left exactly as it is.
     const bool rest = dynamics::isAtRest(b.loads, b.state.omega_B);

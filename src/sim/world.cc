@@ -42,7 +42,8 @@ void World::step() {
   Data& d = impl_->data;
   applyDueInputs(m, d);
   updateLoads(m, d);
-  // Contacts and articulated joints enter here as stages of their own (doc/architecture.md).
+  solveContacts(m, d);
+  // Articulated joints enter here as a stage of their own (doc/architecture.md).
   integrateBodies(m, d, impl_->pool.get());
   expireInputs(m, d);
 }

@@ -534,6 +534,22 @@ TEST(ExactIntegrator, GravityAloneGivesTheExactParabolaWhileSpinning) {
   std::printf("[ info ] gravity parabola over 10 s: |Δx|/|x| %.1e, |Δv|/|v| %.1e\n", dx, dv);
 }
 
+// Truth: v(t) = v0 + g t for a body that does not spin (the rotation's "still" path). A
+// regression: the state's v_B was left at v0 while x followed the parabola, so momentum and the
+// contacts saw a body that did not fall. Tolerance as in the test above (1e-12 relative).
+TEST(ExactIntegrator, GravityAloneWithoutSpinUpdatesTheVelocity) {
+  const Inertia I = principal({0.05, 0.1, 0.13}, 2.0);
+  const Eigen::Vector3d x0(1.0, -2.0, 3.0), v0_W(2.0, 1.0, 8.0), g(0.0, 0.0, -9.81);
+  const double lambda = 1.0, h = 0.01;
+  BodyState s = makeState(Eigen::Quaterniond::Identity(), x0, Eigen::Vector3d::Zero(), v0_W, lambda);
+  Loads loads;
+  loads.setGravity(g);
+  ExactIntegrator integrator;
+  for (int i = 0; i < 100; ++i) integrator.step(I, loads, lambda, h, s);
+  const Eigen::Vector3d v = v0_W + g * 1.0;
+  EXPECT_LE((comVelocity_W(s, lambda) - v).norm() / v.norm(), 1e-12);
+}
+
 // Truth: the exact parabola x0 + v0 t + ½ g t² over 10⁷ steps (h = 0.1 ms, t = 1000 s) while
 // the body spins. Each step rounds v (the kicks, the rotation of v_B to the world) by a few ε
 // in no fixed direction, so x wanders like a random walk: ≈ ε √N · |x| ≈ 1e-13 relative; the

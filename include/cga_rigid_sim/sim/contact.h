@@ -25,6 +25,7 @@ struct Contact {
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();   ///< contact point, world, m
   Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();  ///< unit, from b towards a
   double depth = 0.0;        ///< penetration along the normal, m (≤ 0: gap)
+  int feature = -1;  ///< which point of shape a (a vertex for plane contacts), −1: unknown
   double mu = 0.0;           ///< combined friction coefficient (doc/contacts.md)
   double restitution = 0.0;  ///< combined coefficient of restitution
   /// The impulse of the last step on a (b receives its opposite): along the normal, N s, ≥ 0,

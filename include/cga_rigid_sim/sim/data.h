@@ -34,7 +34,12 @@ struct MovingBodyData {
   dynamics::Loads loads;                             ///< gravity + its active wrenches
   bool loads_dirty = false;  ///< its set of active wrenches changed this step
   StepPath last_path = StepPath::kNotStepped;
+  /// The contacts stage has kicked Ω_B (loads and contact impulses) this step: the
+  /// integration only drifts it, torque-free (doc/contacts.md#time-stepping).
+  bool contact_step = false;
 };
+
+struct ContactScratch;  // the contacts stage's geometry and arrays (src/sim/contact_scratch.h)
 
 /// A wrench that has started: its load (point in B) and the first step it no longer acts in.
 struct ActiveWrench {
@@ -59,6 +64,7 @@ struct Data {
   std::vector<Contact> contacts;
   /// J taken out by contacts since the start or the last reset (MomentumReport).
   double dissipated_energy = 0.0;
+  std::shared_ptr<ContactScratch> contact_scratch;  ///< made by the first contacts stage
 };
 
 /// The data of a moving body at state `initial`: a fresh integrator, gravity as its only load.

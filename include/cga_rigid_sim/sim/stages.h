@@ -7,9 +7,12 @@
 //   updateLoads      each body's loads become gravity plus its active wrenches, summed in the
 //                    order they started — rebuilt only for bodies whose set changed
 //                    (stage_loads.cc);
-//   (contacts and articulated joints enter here: detection, then impulses that act like user
-//    impulses, then trees through the articulated-body algorithm)
-//   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator; a body with no
+//   solveContacts    contacts found at the step's start (broad, then narrow phase); every body
+//                    in one is kicked by its loads and the contact impulses, solved together,
+//                    act on it as user impulses do (stage_contacts.cc, doc/contacts.md);
+//   (articulated joints enter here: trees through the articulated-body algorithm)
+//   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator (a body the
+//                    contacts stage kicked drifts torque-free and without gravity); a body with no
 //                    load and Ω_B = 0 is at rest under every integrator and is skipped; then the
 //                    clock advances, t = (k + 1)·dt (stage_integrate.cc). The bodies are
 //                    independent here, so a WorkerPool may split them between threads;
@@ -32,6 +35,10 @@ void updateLoads(const Model& model, Data& data);
 /// `pool` (may be null: one thread) splits the bodies when there are at least
 /// kMinBodiesPerThread per thread; the result is the same bit for bit either way.
 void integrateBodies(const Model& model, Data& data, WorkerPool* pool = nullptr);
+/// Detects the contacts, kicks every body that has one by its loads, solves the contact
+/// impulses together and applies them (doc/contacts.md); marks those bodies for a torque-free
+/// drift in integrateBodies.
+void solveContacts(const Model& model, Data& data);
 
 /// Fewer bodies than this per thread are integrated on the calling thread alone: handing a
 /// step to the workers and waiting for them costs some 10–30 µs (two wake-ups through a

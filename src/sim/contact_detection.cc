@@ -1,0 +1,296 @@
+// Contact detection: the broad phase (sort and sweep of bounding spheres), the ground plane
+// against shape vertices, and FCL for every other pair. FCL is included here only.
+#include "contact_detection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+
+#include "cga_rigid_sim/dynamics/derived.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// Per shape of every body (body order, then the body's shape order): its FCL geometry, the
+/// points the ground plane is tested against, and a bounding sphere about the shape's origin.
+class CollisionCache {
+ public:
+  struct Shape {
+    int body = -1;
+    int shape = -1;
+    std::shared_ptr<fcl::CollisionGeometryd> geometry;
+    std::vector<Eigen::Vector3d> vertices_S;  ///< box corners, mesh vertices (plane test)
+    double bound = 0.0;                       ///< bounding radius about S's origin, m
+  };
+  struct Interval {
+    double lo, hi;
+    int shape;
+  };
+
+  bool built = false;
+  std::uint64_t topology = 0;
+  std::vector<Shape> shapes;
+  // Scratch, reused every step.
+  std::vector<Eigen::Isometry3d> pose_W;  ///< per shape, M_WS at the step's start
+  std::vector<Interval> sweep;
+  std::vector<fcl::Contactd> fcl_contacts;
+};
+
+std::shared_ptr<CollisionCache> makeCollisionCache() { return std::make_shared<CollisionCache>(); }
+
+namespace {
+
+using Shape = scene::CollisionShape;
+
+// Every vertex of a (welded) triangle mesh, once.
+std::vector<Eigen::Vector3d> distinctVertices(const scene::TriangleMesh& mesh) {
+  std::vector<Eigen::Vector3d> v = mesh.vertices;
+  const auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  std::sort(v.begin(), v.end(), less);
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
+  CollisionCache::Shape out;
+  out.body = body;
+  out.shape = index;
+  switch (s.kind) {
+    case Shape::Kind::kBox: {
+      out.geometry = std::make_shared<fcl::Boxd>(s.size);
+      const Eigen::Vector3d h = 0.5 * s.size;
+      for (int k = 0; k < 8; ++k)
+        out.vertices_S.emplace_back(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(),
+                                    k & 4 ? h.z() : -h.z());
+      out.bound = h.norm();
+      break;
+    }
+    case Shape::Kind::kSphere:
+      out.geometry = std::make_shared<fcl::Sphered>(s.radius);
+      out.bound = s.radius;
+      break;
+    case Shape::Kind::kCylinder:
+      out.geometry = std::make_shared<fcl::Cylinderd>(s.radius, s.length);
+      out.bound = std::hypot(s.radius, 0.5 * s.length);
+      break;
+    case Shape::Kind::kMesh: {
+      // FCL's GJK only asks a convex shape for its extreme vertices: a mesh collides as the
+      // convex hull of its vertices (doc/contacts.md says so).
+      auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(distinctVertices(s.mesh));
+      auto faces = std::make_shared<std::vector<int>>();
+      std::vector<int> index(s.mesh.vertices.size());
+      for (std::size_t k = 0; k < s.mesh.vertices.size(); ++k)
+        index[k] = static_cast<int>(
+            std::lower_bound(vertices->begin(), vertices->end(), s.mesh.vertices[k],
+                             [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                               return std::lexicographical_compare(a.data(), a.data() + 3,
+                                                                   b.data(), b.data() + 3);
+                             }) -
+            vertices->begin());
+      for (const auto& t : s.mesh.triangles) {
+        faces->push_back(3);
+        for (int c : t) faces->push_back(index[c]);
+      }
+      out.vertices_S = *vertices;
+      for (const auto& v : *vertices) out.bound = std::max(out.bound, v.norm());
+      out.geometry = std::make_shared<fcl::Convexd>(
+          vertices, static_cast<int>(s.mesh.triangles.size()), faces);
+      break;
+    }
+  }
+  return out;
+}
+
+void build(const Model& model, CollisionCache& cache) {
+  cache.shapes.clear();
+  const auto& bodies = model.scene.bodies;
+  for (int j = 0; j < static_cast<int>(bodies.size()); ++j)
+    for (int k = 0; k < static_cast<int>(bodies[j].shapes.size()); ++k)
+      cache.shapes.push_back(makeShape(bodies[j].shapes[k], j, k));
+  cache.pose_W.resize(cache.shapes.size());
+  cache.sweep.reserve(cache.shapes.size());
+  cache.topology = model.topology_version;
+  cache.built = true;
+}
+
+// The pose of body j at the step's start.
+const cga::Motor& bodyPose(const Model& model, const Data& data, int j) {
+  const int i = model.moving_of_body[j];
+  return i >= 0 ? data.bodies[i].state.M_WB : model.scene.bodies[j].M_WB0;
+}
+
+// How far any point of moving body i can travel towards the plane in one step, m: the
+// speculative margin of its plane contacts.
+double travel(const Model& model, const Data& data, int i, double reach) {
+  const double h = model.config.dt;
+  const dynamics::BodyState& s = data.bodies[i].state;
+  const double v = dynamics::comVelocity_W(s, model.lambda).norm();
+  const double w = s.omega_B.angular().norm();
+  return h * (v + w * reach) + h * h * data.bodies[i].loads.gravity().norm() + 1e-12;
+}
+
+// The combined parameters of two surfaces (doc/contacts.md#parameters): the smaller μ, the
+// larger e — Gazebo's rule, so ROS URDFs behave as they do there; equal surfaces keep theirs.
+void combine(const Model& model, const scene::SurfaceParameters& a,
+             const scene::SurfaceParameters& b, Contact& c) {
+  const double mu0 = model.config.contact_mu, e0 = model.config.contact_restitution;
+  c.mu = std::min(a.mu.value_or(mu0), b.mu.value_or(mu0));
+  c.restitution = std::max(a.restitution.value_or(e0), b.restitution.value_or(e0));
+}
+
+void planeContacts(const Model& model, const Data& data, CollisionCache& cache,
+                   std::vector<Contact>& out) {
+  const GroundPlane& plane = *model.config.ground_plane;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  int last_body = -1;
+  double margin = 0.0;
+  for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
+    const CollisionCache::Shape& cs = cache.shapes[s];
+    const int i = model.moving_of_body[cs.body];
+    if (i < 0) continue;
+    const scene::BodyModel& body = model.scene.bodies[cs.body];
+    const Shape& shape = body.shapes[cs.shape];
+    if (cs.body != last_body) {
+      double reach = 0.0;
+      for (const auto& sh : body.shapes) reach = std::max(reach, sh.M_BS.translation(model.lambda).norm());
+      margin = travel(model, data, i, reach + cs.bound);
+      last_body = cs.body;
+    }
+    const Eigen::Isometry3d& X = cache.pose_W[s];
+    const Eigen::Vector3d c = X.translation();
+    if (c.z() - cs.bound - plane.height > margin) continue;  // far above the plane
+    const auto add = [&](const Eigen::Vector3d& p, int feature) {
+      const double gap = p.z() - plane.height;
+      if (gap > margin) return;
+      Contact k;
+      k.body_a = cs.body;
+      k.shape_a = cs.shape;
+      k.body_b = kGroundPlane;
+      k.shape_b = -1;
+      k.feature = feature;
+      k.point_W = p;
+      k.normal_W = up;
+      k.depth = -gap;
+      combine(model, shape.surface, plane.surface, k);
+      out.push_back(k);
+    };
+    switch (shape.kind) {
+      case Shape::Kind::kSphere:
+        add(c - shape.radius * up, 0);
+        break;
+      case Shape::Kind::kCylinder: {
+        const Eigen::Vector3d axis = X.linear().col(2);
+        const Eigen::Vector3d across = up - up.dot(axis) * axis;  // ⟂ axis, towards +z
+        const double tilt = across.norm();  // sin of the axis' angle from the vertical
+        for (int rim = 0; rim < 2; ++rim) {
+          const Eigen::Vector3d centre = c + (rim ? 0.5 : -0.5) * shape.length * axis;
+          if (tilt > 1e-9) add(centre - shape.radius * across / tilt, 8 * rim);
+          // Nearly upright, the lowest point of a rim runs round it as the body rocks: four
+          // fixed rim points hold it steady.
+          if (tilt < 0.2)
+            for (int q = 0; q < 4; ++q) {
+              const Eigen::Vector3d d =
+                  X.linear() * Eigen::Vector3d(q == 0 ? 1 : q == 2 ? -1 : 0,
+                                               q == 1 ? 1 : q == 3 ? -1 : 0, 0);
+              add(centre + shape.radius * d, 8 * rim + 1 + q);
+            }
+        }
+        break;
+      }
+      case Shape::Kind::kBox:
+      case Shape::Kind::kMesh:
+        for (std::size_t v = 0; v < cs.vertices_S.size(); ++v)
+          add(X * cs.vertices_S[v], static_cast<int>(v));
+        break;
+    }
+  }
+}
+
+void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
+                  std::vector<Contact>& out) {
+  const CollisionCache::Shape& A = cache.shapes[s1];
+  const CollisionCache::Shape& B = cache.shapes[s2];
+  fcl::CollisionRequestd request(4, true);
+  fcl::CollisionResultd result;
+  fcl::collide(A.geometry.get(), cache.pose_W[s1], B.geometry.get(), cache.pose_W[s2], request,
+               result);
+  if (!result.isCollision()) return;
+  cache.fcl_contacts.clear();
+  result.getContacts(cache.fcl_contacts);
+  const auto& sa = model.scene.bodies[A.body].shapes[A.shape];
+  const auto& sb = model.scene.bodies[B.body].shapes[B.shape];
+  for (const fcl::Contactd& f : cache.fcl_contacts) {
+    if (!f.normal.allFinite() || !f.pos.allFinite() || !std::isfinite(f.penetration_depth))
+      continue;
+    Contact k;
+    k.body_a = A.body;
+    k.shape_a = A.shape;
+    k.body_b = B.body;
+    k.shape_b = B.shape;
+    k.point_W = f.pos;
+    k.normal_W = -f.normal.normalized();  // FCL's points from o1 (a) to o2 (b)
+    k.depth = f.penetration_depth;
+    combine(model, sa.surface, sb.surface, k);
+    out.push_back(k);
+  }
+}
+
+}  // namespace
+
+void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
+                    std::vector<Contact>& out) {
+  if (!cache.built || cache.topology != model.topology_version) build(model, cache);
+  if (cache.shapes.empty()) return;
+  const double lambda = model.lambda;
+  for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
+    const CollisionCache::Shape& cs = cache.shapes[s];
+    const cga::Motor M_WS =
+        bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
+    cache.pose_W[s] = M_WS.toIsometry(lambda);
+  }
+  if (model.config.ground_plane) planeContacts(model, data, cache, out);
+
+  // Broad phase: intervals of the bounding spheres along x, sorted; a pair is tested when its
+  // intervals and its y and z extents overlap.
+  cache.sweep.clear();
+  for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
+    const double x = cache.pose_W[s].translation().x(), r = cache.shapes[s].bound;
+    cache.sweep.push_back({x - r, x + r, static_cast<int>(s)});
+  }
+  std::sort(cache.sweep.begin(), cache.sweep.end(),
+            [](const CollisionCache::Interval& a, const CollisionCache::Interval& b) {
+              return a.lo < b.lo || (a.lo == b.lo && a.shape < b.shape);
+            });
+  for (std::size_t p = 0; p < cache.sweep.size(); ++p) {
+    const int s1 = cache.sweep[p].shape;
+    const CollisionCache::Shape& A = cache.shapes[s1];
+    const bool a_moving = model.moving_of_body[A.body] >= 0;
+    const Eigen::Vector3d ca = cache.pose_W[s1].translation();
+    for (std::size_t q = p + 1; q < cache.sweep.size() && cache.sweep[q].lo <= cache.sweep[p].hi;
+         ++q) {
+      const int s2 = cache.sweep[q].shape;
+      const CollisionCache::Shape& B = cache.shapes[s2];
+      if (A.body == B.body) continue;
+      const bool b_moving = model.moving_of_body[B.body] >= 0;
+      if (!a_moving && !b_moving) continue;
+      const Eigen::Vector3d d = cache.pose_W[s2].translation() - ca;
+      const double r = A.bound + B.bound;
+      if (std::abs(d.y()) > r || std::abs(d.z()) > r || d.squaredNorm() > r * r) continue;
+      // Body a is moving; of two moving bodies, the one that comes first in the scene.
+      const bool a_first = a_moving && (!b_moving || A.body < B.body);
+      if (a_first)
+        pairContacts(model, cache, s1, s2, out);
+      else
+        pairContacts(model, cache, s2, s1, out);
+    }
+  }
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,30 @@
+// What the contacts stage keeps between steps besides Data::contacts: the collision geometry
+// and the solver's arrays (reused, so a step with contacts allocates only when they grow).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "cga_rigid_sim/cga/bivelocity.h"
+#include "cga_rigid_sim/cga/moment.h"
+#include "contact_detection.h"
+#include "contact_solver.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+struct ContactScratch {
+  std::shared_ptr<CollisionCache> cache = makeCollisionCache();
+  std::vector<Contact> found;             ///< this step's detection
+  std::vector<int> slot_of_moving;        ///< per moving index: its solver slot, or −1
+  std::vector<int> moving_of_slot;        ///< per slot: the moving index
+  std::vector<cga::Bivelocity> kicked_B;  ///< per slot: Ω_B after the loads' kick
+  std::vector<SolverBody> bodies;         ///< per slot
+  std::vector<int> slot_a, slot_b;        ///< per contact
+  std::vector<ContactRow> rows;           ///< per contact
+  std::vector<std::size_t> previous;      ///< last step's contacts, sorted by their pair
+  std::vector<cga::Moment> impulse_B;     ///< per slot: the sum of its contact impulses, B
+};
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

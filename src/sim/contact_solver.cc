@@ -1,0 +1,224 @@
+#include "contact_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+Eigen::Matrix3d cross(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d m;
+  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return m;
+}
+
+// The velocity of body slot s at arm r (zero for an immovable one).
+Eigen::Vector3d pointVelocity(const std::vector<SolverBody>& bodies, int s,
+                              const Eigen::Vector3d& r) {
+  if (s < 0) return Eigen::Vector3d::Zero();
+  return bodies[s].v + bodies[s].w.cross(r);
+}
+
+Eigen::Vector3d relativeVelocity(const std::vector<SolverBody>& bodies, const ContactRow& c) {
+  return pointVelocity(bodies, c.a, c.ra) - pointVelocity(bodies, c.b, c.rb);
+}
+
+// The impulse P (world axes) at the contact: +P on a, −P on b.
+void applyImpulse(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
+  if (c.a >= 0) {
+    SolverBody& A = bodies[c.a];
+    A.v += A.inv_mass * P;
+    A.w += A.inv_inertia * c.ra.cross(P);
+  }
+  if (c.b >= 0) {
+    SolverBody& B = bodies[c.b];
+    B.v -= B.inv_mass * P;
+    B.w -= B.inv_inertia * c.rb.cross(P);
+  }
+}
+
+void applyPseudo(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
+  if (c.a >= 0) {
+    SolverBody& A = bodies[c.a];
+    A.pv += A.inv_mass * P;
+    A.pw += A.inv_inertia * c.ra.cross(P);
+  }
+  if (c.b >= 0) {
+    SolverBody& B = bodies[c.b];
+    B.pv -= B.inv_mass * P;
+    B.pw -= B.inv_inertia * c.rb.cross(P);
+  }
+}
+
+// A tangent basis of the plane ⟂ n (any; the friction cone is circular).
+void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2) {
+  const Eigen::Vector3d ref =
+      std::abs(n.x()) < 0.57735 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  t1 = n.cross(ref).normalized();
+  t2 = n.cross(t1);
+}
+
+// Each row's target from the velocities before any contact impulse.
+void setTargets(const SolverSettings& st, const std::vector<SolverBody>& bodies, bool bounce,
+                std::vector<ContactRow>& rows) {
+  for (ContactRow& c : rows) {
+    const double u_n = c.n.dot(relativeVelocity(bodies, c));
+    const double h = st.h;
+    const double d = c.depth;
+    c.impact = 0.0;
+    double target = d > 0 ? 0.0 : d / h;  // a gap may close, no more
+    // An impact: the bodies approach faster than the resting threshold and touch within the
+    // step. Newton's law sends them apart at e times the approach speed.
+    if (bounce && c.restitution > 0 && u_n < -st.rest_speed && (d > 0 || u_n * h < d)) {
+      c.impact = -u_n;
+      target = std::max(target, c.restitution * c.impact);
+    }
+    c.target = target;
+  }
+}
+
+}  // namespace
+
+void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverBody>& bodies,
+                 const std::vector<int>& slot_a, const std::vector<int>& slot_b,
+                 const SolverSettings&, std::vector<ContactRow>& rows) {
+  rows.resize(contacts.size());
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& ct = contacts[k];
+    ContactRow& c = rows[k];
+    c.a = slot_a[k];
+    c.b = slot_b[k];
+    c.n = ct.normal_W;
+    tangents(c.n, c.t1, c.t2);
+    c.ra = c.a >= 0 ? Eigen::Vector3d(ct.point_W - bodies[c.a].x) : Eigen::Vector3d::Zero();
+    c.rb = c.b >= 0 ? Eigen::Vector3d(ct.point_W - bodies[c.b].x) : Eigen::Vector3d::Zero();
+    // K = Σ (1/m) 1 − [r]× I⁻¹ [r]× over the movable bodies: the velocity change at the point
+    // per unit impulse there.
+    Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+    for (int side = 0; side < 2; ++side) {
+      const int s = side ? c.b : c.a;
+      if (s < 0) continue;
+      const Eigen::Matrix3d R = cross(side ? c.rb : c.ra);
+      K += bodies[s].inv_mass * Eigen::Matrix3d::Identity() - R * bodies[s].inv_inertia * R;
+    }
+    Eigen::Matrix3d B;
+    B << c.n, c.t1, c.t2;
+    const Eigen::Matrix3d Kc = B.transpose() * K * B;
+    c.k_nn = Kc(0, 0);
+    c.k_tt_inv = Kc.block<2, 2>(1, 1).inverse();
+    c.mu = ct.mu;
+    c.restitution = ct.restitution;
+    c.depth = ct.depth;
+    c.lambda_p = 0.0;
+  }
+}
+
+double kineticEnergy(const std::vector<SolverBody>& bodies) {
+  double T = 0.0;
+  for (const SolverBody& b : bodies) T += 0.5 * (b.mass * b.v.squaredNorm() + b.w.dot(b.inertia * b.w));
+  return T;
+}
+
+SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bodies,
+                           std::vector<ContactRow>& rows) {
+  SolveStats stats;
+  // The velocities before any contact impulse: the warm start is applied after the targets
+  // are read from them.
+  std::vector<Eigen::Vector3d> v0(bodies.size()), w0(bodies.size());
+  for (std::size_t s = 0; s < bodies.size(); ++s) {
+    v0[s] = bodies[s].v;
+    w0[s] = bodies[s].w;
+  }
+  stats.kinetic_before = kineticEnergy(bodies);
+
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const bool bounce = attempt == 0;
+    if (!bounce) {  // start again from the velocities before the contacts, cold
+      for (std::size_t s = 0; s < bodies.size(); ++s) {
+        bodies[s].v = v0[s];
+        bodies[s].w = w0[s];
+      }
+      for (ContactRow& c : rows) {
+        c.lambda_n = 0.0;
+        c.lambda_t.setZero();
+      }
+    }
+    setTargets(st, bodies, bounce, rows);
+    for (ContactRow& c : rows) {  // warm start, inside the cone
+      c.lambda_n = std::max(0.0, c.lambda_n);
+      const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
+      if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
+      applyImpulse(bodies, c, c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
+    }
+    int it = 0;
+    for (; it < st.max_iterations; ++it) {
+      double change = 0.0;
+      for (ContactRow& c : rows) {
+        // Normal: the impulse that brings u_n to its target, kept ≥ 0.
+        const double u_n = c.n.dot(relativeVelocity(bodies, c));
+        const double ln = std::max(0.0, c.lambda_n + (c.target - u_n) / c.k_nn);
+        const double dn = ln - c.lambda_n;
+        c.lambda_n = ln;
+        if (dn != 0.0) applyImpulse(bodies, c, dn * c.n);
+        change = std::max(change, std::abs(dn) * c.k_nn);
+        // Friction: the impulse that stops the sliding, projected onto the cone's disc.
+        const Eigen::Vector3d u = relativeVelocity(bodies, c);
+        const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
+        Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;
+        const double tmax = c.mu * c.lambda_n, t = lt.norm();
+        if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
+        const Eigen::Vector2d dt = lt - c.lambda_t;
+        c.lambda_t = lt;
+        if (!dt.isZero(0.0)) applyImpulse(bodies, c, dt.x() * c.t1 + dt.y() * c.t2);
+        change = std::max(change, (c.k_tt_inv.inverse() * dt).norm());
+      }
+      if (change < st.tolerance) {
+        ++it;
+        break;
+      }
+    }
+    stats.iterations += it;
+    stats.kinetic_after = kineticEnergy(bodies);
+    bool any_bounce = false;
+    for (const ContactRow& c : rows) any_bounce = any_bounce || c.impact > 0;
+    // The energy guard: restitution in several simultaneous impacts can add energy; e = 0
+    // cannot (doc/contacts.md#energy).
+    if (!any_bounce || stats.kinetic_after <= stats.kinetic_before * (1 + 1e-12) + 1e-300) break;
+    stats.restitution_dropped = true;
+  }
+  return stats;
+}
+
+void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
+                    std::vector<ContactRow>& rows) {
+  bool any = false;
+  for (ContactRow& c : rows) {
+    c.bias = c.depth > st.slop ? st.correction * (c.depth - st.slop) / st.h : 0.0;
+    c.lambda_p = 0.0;
+    any = any || c.bias > 0;
+  }
+  if (!any) return;
+  for (int it = 0; it < st.max_iterations; ++it) {
+    double change = 0.0;
+    for (ContactRow& c : rows) {
+      if (c.bias <= 0 && c.lambda_p == 0.0) continue;
+      const Eigen::Vector3d pa =
+          c.a >= 0 ? Eigen::Vector3d(bodies[c.a].pv + bodies[c.a].pw.cross(c.ra))
+                   : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d pb =
+          c.b >= 0 ? Eigen::Vector3d(bodies[c.b].pv + bodies[c.b].pw.cross(c.rb))
+                   : Eigen::Vector3d::Zero();
+      const double u = c.n.dot(pa - pb);
+      const double lp = std::max(0.0, c.lambda_p + (c.bias - u) / c.k_nn);
+      const double d = lp - c.lambda_p;
+      c.lambda_p = lp;
+      if (d != 0.0) applyPseudo(bodies, c, d * c.n);
+      change = std::max(change, std::abs(d) * c.k_nn);
+    }
+    if (change < 1e-9 * st.slop / st.h) break;
+  }
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

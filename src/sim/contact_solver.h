@@ -1,0 +1,92 @@
+// The contact solver (doc/contacts.md#solver): the impulses of one step's contacts, solved
+// together by projected Gauss–Seidel over the contacts, one block (normal, two tangents) per
+// contact, as in Kaufman, Edmunds & Pai's Fast Frictional Dynamics: each sweep costs O(number
+// of contacts), so a pile scales linearly.
+//
+// Per contact, with u the relative velocity of a's point against b's after the step:
+//   normal     λ_n ≥ 0, u_n ≥ target, λ_n (u_n − target) = 0, where target is 0 for bodies in
+//              touch, −gap/h for a gap (it may close, no more), or −e u_n⁻ for an impact
+//              faster than the resting threshold (Newton's restitution law);
+//   friction   the elliptic (here: circular, μ isotropic) Coulomb cone |λ_t| ≤ μ λ_n: sticking
+//              (u_t = 0) inside it, sliding with λ_t opposite u_t on its rim. A diagonal push
+//              sees the same cone as a straight one.
+// Warm-started from the impulses of the same contacts in the last step, so a resting stack
+// starts at its solution. A solve whose restitution would raise the kinetic energy (several
+// simultaneous impacts) is redone with e = 0, which never raises it (doc/contacts.md proves it).
+//
+// The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
+// impulses are applied to the states as CGA impulses afterwards (stage_contacts.cc), so the
+// velocity jump is (I∧n)⁻¹ T_imp as for user impulses.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "cga_rigid_sim/sim/contact.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// A body as the solver sees it (world axes). Static bodies and the plane have no slot.
+struct SolverBody {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();  ///< centre of mass, m
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  ///< centre-of-mass velocity, m/s
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< angular velocity, rad/s
+  double inv_mass = 0.0;
+  Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Zero();  ///< world axes
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();      ///< world axes (for the energy)
+  double mass = 0.0;
+  // Pseudo-velocities of the position correction (they move the pose, not the momentum).
+  Eigen::Vector3d pv = Eigen::Vector3d::Zero();
+  Eigen::Vector3d pw = Eigen::Vector3d::Zero();
+};
+
+/// One contact in the solver: its bodies' slots (−1: immovable), lever arms, basis, the
+/// Delassus block K in the basis (n, t1, t2), its target and its accumulated impulses.
+struct ContactRow {
+  int a = -1, b = -1;
+  Eigen::Vector3d ra, rb, n, t1, t2;
+  double k_nn = 0.0;
+  Eigen::Matrix2d k_tt_inv;
+  double depth = 0.0;   ///< penetration, m (≤ 0: a gap)
+  double target = 0.0;  ///< the lower bound of u_n after the step, m/s
+  double bias = 0.0;    ///< position correction's target pseudo-velocity, m/s
+  double mu = 0.0;
+  double restitution = 0.0;
+  double impact = 0.0;  ///< −u_n before the solve when it is an impact, else 0
+  double lambda_n = 0.0;
+  Eigen::Vector2d lambda_t = Eigen::Vector2d::Zero();
+  double lambda_p = 0.0;  ///< position correction's accumulated pseudo-impulse
+};
+
+struct SolverSettings {
+  double h = 0.001;           ///< step, s
+  double rest_speed = 0.0;    ///< approaches slower than this do not bounce, m/s
+  double slop = 5e-5;         ///< overlap left uncorrected, m
+  double correction = 0.2;    ///< fraction of the overlap beyond slop removed per step
+  int max_iterations = 100;   ///< Gauss–Seidel sweeps at most
+  double tolerance = 1e-13;   ///< stop when no sweep changes a velocity by more, m/s
+};
+
+struct SolveStats {
+  int iterations = 0;
+  bool restitution_dropped = false;  ///< the energy guard redid the solve with e = 0
+  double kinetic_before = 0.0, kinetic_after = 0.0;
+};
+
+/// Fills the rows' geometry (arms, basis, K, targets) from the contacts and the bodies.
+void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverBody>& bodies,
+                 const std::vector<int>& slot_a, const std::vector<int>& slot_b,
+                 const SolverSettings& settings, std::vector<ContactRow>& rows);
+/// Solves the velocity impulses (rows' lambda_n, lambda_t hold the warm start on entry) and
+/// leaves the bodies' v, w at their values after the impulses.
+SolveStats solveVelocities(const SolverSettings& settings, std::vector<SolverBody>& bodies,
+                           std::vector<ContactRow>& rows);
+/// Solves the position correction's pseudo-velocities pv, pw (normal only, no friction).
+void solvePositions(const SolverSettings& settings, std::vector<SolverBody>& bodies,
+                    std::vector<ContactRow>& rows);
+/// Σ ½ m v² + ½ w·I w over the bodies.
+double kineticEnergy(const std::vector<SolverBody>& bodies);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
