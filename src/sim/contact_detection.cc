@@ -144,22 +144,24 @@ void combine(const Model& model, const scene::SurfaceParameters& a,
   c.restitution = std::max(a.restitution.value_or(e0), b.restitution.value_or(e0));
 }
 
-void planeContacts(const Model& model, const Data& data, CollisionCache& cache,
-                   std::vector<Contact>& out) {
+// Shapes [first, last) against the plane; `fixed_margin` < 0: each body's travel over the step.
+void planeContacts(const Model& model, const Data& data, CollisionCache& cache, std::size_t first,
+                   std::size_t last, double fixed_margin, std::vector<Contact>& out) {
   const GroundPlane& plane = *model.config.ground_plane;
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   int last_body = -1;
-  double margin = 0.0;
-  for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
+  double margin = fixed_margin;
+  for (std::size_t s = first; s < last; ++s) {
     const CollisionCache::Shape& cs = cache.shapes[s];
     const int i = model.moving_of_body[cs.body];
     if (i < 0) continue;
     const scene::BodyModel& body = model.scene.bodies[cs.body];
     const Shape& shape = body.shapes[cs.shape];
-    if (cs.body != last_body) {
+    if (cs.body != last_body && fixed_margin < 0) {
       double reach = 0.0;
-      for (const auto& sh : body.shapes) reach = std::max(reach, sh.M_BS.translation(model.lambda).norm());
-      margin = travel(model, data, i, reach + cs.bound);
+      for (const auto& sh : body.shapes)
+        reach = std::max(reach, sh.M_BS.translation(model.lambda).norm() + cs.bound);
+      margin = travel(model, data, i, reach);
       last_body = cs.body;
     }
     const Eigen::Isometry3d& X = cache.pose_W[s];
@@ -254,7 +256,7 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
         bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
     cache.pose_W[s] = M_WS.toIsometry(lambda);
   }
-  if (model.config.ground_plane) planeContacts(model, data, cache, out);
+  if (model.config.ground_plane) planeContacts(model, data, cache, 0, cache.shapes.size(), -1, out);
 
   // Broad phase: intervals of the bounding spheres along x, sorted; a pair is tested when its
   // intervals and its y and z extents overlap.
@@ -290,6 +292,21 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
         pairContacts(model, cache, s2, s1, out);
     }
   }
+}
+
+void detectPlaneContactsOf(const Model& model, const Data& data, CollisionCache& cache, int j,
+                           double margin, std::vector<Contact>& out) {
+  if (!model.config.ground_plane) return;
+  std::size_t first = cache.shapes.size(), last = first;
+  for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
+    if (cache.shapes[s].body != j) continue;
+    first = std::min(first, s);
+    last = s + 1;
+    cache.pose_W[s] =
+        (bodyPose(model, data, j) * model.scene.bodies[j].shapes[cache.shapes[s].shape].M_BS)
+            .toIsometry(model.lambda);
+  }
+  planeContacts(model, data, cache, first, last, margin, out);
 }
 
 }  // namespace sim

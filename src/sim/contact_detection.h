@@ -33,5 +33,10 @@ std::shared_ptr<CollisionCache> makeCollisionCache();
 void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
                     std::vector<Contact>& out);
 
+/// Appends the ground-plane contacts of body j alone at its current pose, with a speculative
+/// margin of `margin` m (used after a body has been moved to the instant it lands).
+void detectPlaneContactsOf(const Model& model, const Data& data, CollisionCache& cache, int j,
+                           double margin, std::vector<Contact>& out);
+
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -24,6 +24,14 @@ struct ContactScratch {
   std::vector<ContactRow> rows;           ///< per contact
   std::vector<std::size_t> previous;      ///< last step's contacts, sorted by their pair
   std::vector<cga::Moment> impulse_B;     ///< per slot: the sum of its contact impulses, B
+  std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN
+  std::vector<char> landing;                   ///< per slot: it lands within the step
+  std::vector<Contact> landed;                 ///< the landings' contacts, with impulses
+  // One landing's solve.
+  std::vector<Contact> land_found;
+  std::vector<SolverBody> land_bodies;
+  std::vector<int> land_slot_a, land_slot_b;
+  std::vector<ContactRow> land_rows;
 };
 
 }  // namespace sim

@@ -106,7 +106,8 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     B << c.n, c.t1, c.t2;
     const Eigen::Matrix3d Kc = B.transpose() * K * B;
     c.k_nn = Kc(0, 0);
-    c.k_tt_inv = Kc.block<2, 2>(1, 1).inverse();
+    const double tr = Kc(1, 1) + Kc(2, 2), det = Kc(1, 1) * Kc(2, 2) - Kc(1, 2) * Kc(2, 1);
+    c.k_t = 0.5 * tr + std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
     c.mu = ct.mu;
     c.restitution = ct.restitution;
     c.depth = ct.depth;
@@ -165,13 +166,13 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
         // Friction: the impulse that stops the sliding, projected onto the cone's disc.
         const Eigen::Vector3d u = relativeVelocity(bodies, c);
         const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
-        Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;
+        Eigen::Vector2d lt = c.lambda_t - u_t / c.k_t;
         const double tmax = c.mu * c.lambda_n, t = lt.norm();
         if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
         const Eigen::Vector2d dt = lt - c.lambda_t;
         c.lambda_t = lt;
         if (!dt.isZero(0.0)) applyImpulse(bodies, c, dt.x() * c.t1 + dt.y() * c.t2);
-        change = std::max(change, (c.k_tt_inv.inverse() * dt).norm());
+        change = std::max(change, c.k_t * dt.norm());
       }
       if (change < st.tolerance) {
         ++it;

@@ -47,7 +47,10 @@ struct ContactRow {
   int a = -1, b = -1;
   Eigen::Vector3d ra, rb, n, t1, t2;
   double k_nn = 0.0;
-  Eigen::Matrix2d k_tt_inv;
+  /// The tangent block's largest eigenvalue: friction steps by −u_t / k_t, a step along −u_t,
+  /// so that a sliding contact's fixed point has λ_t opposite its slip (maximal dissipation);
+  /// the full inverse of the block would rotate it.
+  double k_t = 0.0;
   double depth = 0.0;   ///< penetration, m (≤ 0: a gap)
   double target = 0.0;  ///< the lower bound of u_n after the step, m/s
   double bias = 0.0;    ///< position correction's target pseudo-velocity, m/s

@@ -3,6 +3,7 @@
 // integration then drifts those bodies torque-free (stage_integrate.cc). Bodies that touch
 // nothing are left alone: they keep their exact or symplectic path.
 #include <algorithm>
+#include <limits>
 #include <tuple>
 
 #include "cga_rigid_sim/dynamics/derived.h"
@@ -67,6 +68,82 @@ SolverBody solverBody(const Model& model, const dynamics::BodyState& s, const cg
   return out;
 }
 
+// The first instant in (0, h] at which a gap to the plane closes, for a body that only has
+// plane gaps: each contact point's height follows d(t) = gap + u t + ½ a t² (u its normal
+// velocity, a gravity's normal component; exact for a sphere, whose lowest point does not
+// depend on the rotation). 0 when none closes at more than the resting speed.
+double landingTime(const Model& model, const Data& data, const ContactScratch& S,
+                   std::size_t first, std::size_t last, double rest_speed) {
+  const double h = model.config.dt;
+  double t_land = 0.0;
+  for (std::size_t k = first; k < last; ++k) {
+    const Contact& c = S.found[k];
+    const dynamics::BodyState& st = data.bodies[model.moving_of_body[c.body_a]].state;
+    const Eigen::Vector3d x = dynamics::comPosition_W(st, model.lambda);
+    const double u = c.normal_W.dot(dynamics::comVelocity_W(st, model.lambda) +
+                                    dynamics::angularVelocity_W(st).cross(c.point_W - x));
+    const double a = c.normal_W.dot(model.scene.gravity_W);
+    const double gap = -c.depth;
+    const double disc = u * u - 2.0 * a * gap;
+    if (u >= 0 || disc < 0) continue;
+    const double t = 2.0 * gap / (-u + std::sqrt(disc));  // the smaller root, stably
+    if (t > h || -(u + a * t) <= rest_speed) continue;
+    if (t_land == 0.0 || t < t_land) t_land = t;
+  }
+  return t_land;
+}
+
+// A landing (doc/contacts.md#impacts): moving body i is stepped by its own integrator to the
+// instant t it touches the plane, its contacts there are solved with restitution (no kick: the
+// integrator has carried the loads to t), and it is stepped through the rest of the step. Its
+// contacts are appended to `out`; returns the kinetic energy the impulses took out.
+double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
+            const SolverSettings& settings, std::vector<Contact>& out) {
+  MovingBodyData& b = data.bodies[i];
+  const dynamics::Inertia& I = model.moving[i].inertia;
+  const double lambda = model.lambda, h = model.config.dt;
+  b.integrator->reset();
+  b.integrator->step(I, b.loads, lambda, t, b.state);
+  b.integrator->reset();
+  const double rest = std::max(h - t, 1e-9 * h);
+  S.land_found.clear();
+  const double reach_speed = dynamics::comVelocity_W(b.state, lambda).norm() +
+                             dynamics::angularVelocity_W(b.state).norm();
+  detectPlaneContactsOf(model, data, *S.cache, model.moving[i].body,
+                        1e-9 + rest * reach_speed, S.land_found);
+  double dissipated = 0.0;
+  if (!S.land_found.empty()) {
+    S.land_bodies.assign(1, solverBody(model, b.state, b.state.omega_B, i));
+    S.land_slot_a.assign(S.land_found.size(), 0);
+    S.land_slot_b.assign(S.land_found.size(), -1);
+    SolverSettings st = settings;
+    st.h = rest;
+    prepareRows(S.land_found, S.land_bodies, S.land_slot_a, S.land_slot_b, st, S.land_rows);
+    for (ContactRow& r : S.land_rows) {
+      r.lambda_n = 0.0;
+      r.lambda_t.setZero();
+    }
+    const SolveStats stats = solveVelocities(st, S.land_bodies, S.land_rows);
+    dissipated = stats.kinetic_before - stats.kinetic_after;
+    cga::Moment T;
+    for (std::size_t k = 0; k < S.land_found.size(); ++k) {
+      const ContactRow& r = S.land_rows[k];
+      const Eigen::Vector3d P = r.lambda_n * r.n + r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
+      T += dynamics::impulseMoment_B(b.state, cga::Force(P, 0.0), S.land_found[k].point_W,
+                                     Eigen::Vector3d::Zero(), lambda);
+      Contact c = S.land_found[k];
+      c.normal_impulse = r.lambda_n;
+      c.friction_impulse_W = r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
+      out.push_back(c);
+    }
+    b.state.omega_B += I.solve(T, lambda);
+  }
+  b.integrator->step(I, b.loads, lambda, h - t, b.state);
+  b.integrator->reset();
+  b.contact_step = MovingBodyData::ContactStep::kDone;
+  return dissipated;
+}
+
 }  // namespace
 
 void solveContacts(const Model& model, Data& data) {
@@ -124,6 +201,50 @@ void solveContacts(const Model& model, Data& data) {
   SolverSettings settings;
   settings.h = h;
   settings.rest_speed = 2.0 * model.scene.gravity_W.norm() * h;
+
+  // Landings: a body whose contacts are all gaps to the ground plane that close within the
+  // step faster than the resting speed is stepped to the instant it lands and bounces there.
+  S.landing.assign(S.bodies.size(), 1);
+  for (std::size_t k = 0; k < kept; ++k) {
+    const Contact& c = S.found[k];
+    if (c.body_b != kGroundPlane || c.depth > 0) S.landing[S.slot_a[k]] = 0;
+    if (S.slot_b[k] >= 0) S.landing[S.slot_b[k]] = 0;
+  }
+  S.landed.clear();
+  double landing_dissipated = 0.0;
+  {
+    std::size_t k = 0;
+    while (k < kept) {  // a body's plane contacts are consecutive (detection order)
+      std::size_t e = k + 1;
+      while (e < kept && S.slot_a[e] == S.slot_a[k]) ++e;
+      const int s = S.slot_a[k];
+      if (S.landing[s]) {
+        const double t = landingTime(model, data, S, k, e, settings.rest_speed);
+        if (t > 0)
+          landing_dissipated += land(model, data, S, S.moving_of_slot[s], t, settings, S.landed);
+        else
+          S.landing[s] = 0;
+      }
+      k = e;
+    }
+    std::size_t out = 0;
+    for (std::size_t q = 0; q < kept; ++q) {
+      if (S.landing[S.slot_a[q]]) continue;
+      S.found[out] = S.found[q];
+      S.slot_a[out] = S.slot_a[q];
+      S.slot_b[out] = S.slot_b[q];
+      ++out;
+    }
+    kept = out;
+    S.found.resize(kept);
+    S.slot_a.resize(kept);
+    S.slot_b.resize(kept);
+  }
+  data.dissipated_energy += landing_dissipated;
+  if (kept == 0) {
+    data.contacts.assign(S.landed.begin(), S.landed.end());
+    return;
+  }
   prepareRows(S.found, S.bodies, S.slot_a, S.slot_b, settings, S.rows);
 
   // Warm start from last step's impulses of the same contacts.
@@ -143,7 +264,7 @@ void solveContacts(const Model& model, Data& data) {
     }
   }
 
-  const SolveStats stats = solveVelocities(settings, S.bodies, S.rows);
+  solveVelocities(settings, S.bodies, S.rows);
   solvePositions(settings, S.bodies, S.rows);
 
   // The impulses act on the states as CGA impulses: ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,
@@ -162,27 +283,67 @@ void solveContacts(const Model& model, Data& data) {
                                         Eigen::Vector3d::Zero(), lambda);
     }
   }
-  double potential_change = 0.0;
+  // The common normal of each slot's contacts (NaN: they differ, or one is an impact or a gap
+  // that closes): only then is its sliding made trapezoidal.
+  std::vector<Eigen::Vector3d>& common = S.common_normal;
+  common.assign(S.bodies.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < kept; ++k) {
+    const ContactRow& r = S.rows[k];
+    const bool sustained = r.impact == 0.0 && r.depth >= -1e-12;
+    for (int side = 0; side < 2; ++side) {
+      const int s = side ? r.b : r.a;
+      if (s < 0) continue;
+      Eigen::Vector3d& n = common[s];
+      if (!sustained) n.setConstant(std::numeric_limits<double>::quiet_NaN());
+      else if (n.isZero(0.0)) n = r.n;
+      else if (n.allFinite() && (n - r.n).norm() > 1e-9 && (n + r.n).norm() > 1e-9)
+        n.setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+  // The energy book (doc/contacts.md#energy): per body, what it had at the step's start plus
+  // the work of its applied loads (trapezoidal in Ω) minus what it has after the step (the
+  // torque-free drift keeps the kinetic energy; the centre of mass moves by h v + shift).
+  double dissipated = 0.0;
   const Eigen::Vector3d& g = model.scene.gravity_W;
   for (std::size_t s = 0; s < S.bodies.size(); ++s) {
+    if (S.landing[s]) continue;  // stepped through already
     const int i = S.moving_of_slot[s];
     MovingBodyData& b = data.bodies[i];
     const dynamics::Inertia& I = model.moving[i].inertia;
+    const cga::Bivelocity omega_start = b.state.omega_B;
+    const Eigen::Vector3d v_start = dynamics::comVelocity_W(b.state, lambda);
+    const Eigen::Vector3d x_start = dynamics::comPosition_W(b.state, lambda);
     b.state.omega_B = S.kicked_B[s] + I.solve(T[s], lambda);
+    const Eigen::Vector3d v_end = dynamics::comVelocity_W(b.state, lambda);
+    b.contact_shift_W.setZero();
+    if (common[s].allFinite() && !common[s].isZero(0.0)) {
+      const Eigen::Vector3d dv = v_start - v_end;
+      b.contact_shift_W = 0.5 * h * (dv - common[s].dot(dv) * common[s]);
+    }
     // The position correction moves the pose only: x += h p_v, R ← exp(h p_w) R.
     const SolverBody& sb = S.bodies[s];
+    Eigen::Vector3d x = x_start;
     if (!sb.pv.isZero(0.0) || !sb.pw.isZero(0.0)) {
-      const Eigen::Vector3d dx = h * sb.pv, dr = h * sb.pw;
+      const Eigen::Vector3d dr = h * sb.pw;
       const double angle = dr.norm();
       Eigen::Quaterniond R = b.state.M_WB.rotation();
       if (angle > 0) R = Eigen::Quaterniond(Eigen::AngleAxisd(angle, dr / angle)) * R;
-      b.state.M_WB = cga::Motor::fromPose(R.normalized(), sb.x + dx, lambda);
-      potential_change -= I.mass() * g.dot(dx);
+      x += h * sb.pv;
+      b.state.M_WB = cga::Motor::fromPose(R.normalized(), x, lambda);
     }
-    b.contact_step = true;
+    const Eigen::Vector3d x_end = x + h * v_end + b.contact_shift_W;
+    double work = 0.0;
+    if (b.loads.hasApplied()) {
+      const cga::Moment T_applied = b.loads.appliedMoment_B(b.state.M_WB, lambda);
+      const cga::Bivelocity mid = 0.5 * (omega_start + b.state.omega_B);
+      work = h * (T_applied.rot.dot(mid.rot) + T_applied.trans.dot(mid.trans));
+    }
+    dissipated += I.kineticEnergy(omega_start, lambda) - I.kineticEnergy(b.state.omega_B, lambda) +
+                  I.mass() * g.dot(x_end - x_start) + work;
+    b.contact_step = MovingBodyData::ContactStep::kDrift;
     b.integrator->reset();
   }
-  data.dissipated_energy += stats.kinetic_before - stats.kinetic_after - potential_change;
+  data.dissipated_energy += dissipated;
 
   // The contacts of this step, with their impulses, for reports and the next warm start.
   data.contacts.assign(S.found.begin(), S.found.end());
@@ -191,6 +352,7 @@ void solveContacts(const Model& model, Data& data) {
     data.contacts[k].normal_impulse = r.lambda_n;
     data.contacts[k].friction_impulse_W = r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
   }
+  data.contacts.insert(data.contacts.end(), S.landed.begin(), S.landed.end());
 }
 
 }  // namespace sim

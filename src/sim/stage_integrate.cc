@@ -21,13 +21,24 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
   const double h = model.config.dt, lambda = model.lambda;
   for (std::size_t i = begin; i < end; ++i) {
     MovingBodyData& b = data.bodies[i];
-    if (b.contact_step) {
+    if (b.contact_step == MovingBodyData::ContactStep::kDone) {
+      b.contact_step = MovingBodyData::ContactStep::kNone;
+      b.last_path = StepPath::kStepped;
+      continue;
+    }
+    if (b.contact_step == MovingBodyData::ContactStep::kDrift) {
       // Kicked by its loads and contacts already: the drift of the splitting, torque-free.
-      b.contact_step = false;
+      b.contact_step = MovingBodyData::ContactStep::kNone;
       const bool rest = b.state.omega_B.rot.isZero(0.0) && b.state.omega_B.trans.isZero(0.0);
       b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
       if (!rest) b.integrator->step(model.moving[i].inertia, kNoLoads, lambda, h, b.state);
       b.integrator->reset();  // its caches hold the drift, not the body's loaded path
+      if (!b.contact_shift_W.isZero(0.0)) {
+        b.state.M_WB = cga::Motor::fromPose(
+            b.state.M_WB.rotation(), b.state.M_WB.translation(lambda) + b.contact_shift_W, lambda);
+        b.contact_shift_W.setZero();
+        b.last_path = StepPath::kStepped;
+      }
       continue;
     }
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution

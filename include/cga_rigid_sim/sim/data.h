@@ -34,9 +34,17 @@ struct MovingBodyData {
   dynamics::Loads loads;                             ///< gravity + its active wrenches
   bool loads_dirty = false;  ///< its set of active wrenches changed this step
   StepPath last_path = StepPath::kNotStepped;
-  /// The contacts stage has kicked Ω_B (loads and contact impulses) this step: the
-  /// integration only drifts it, torque-free (doc/contacts.md#time-stepping).
-  bool contact_step = false;
+  /// What the contacts stage did with the body this step (doc/contacts.md#time-stepping).
+  enum class ContactStep : std::uint8_t {
+    kNone,   ///< nothing: the integrator takes the whole step
+    kDrift,  ///< kicked Ω_B by loads and impulses: the integration only drifts, torque-free
+    kDone,   ///< landed within the step and stepped through it: the integration skips it
+  };
+  ContactStep contact_step = ContactStep::kNone;
+  /// Added to the centre of mass after that drift: h (v_start − v_end)/2 along the contact
+  /// plane when every contact of the body shares one normal, so its sliding is trapezoidal
+  /// (doc/contacts.md#time-stepping); zero otherwise.
+  Eigen::Vector3d contact_shift_W = Eigen::Vector3d::Zero();
 };
 
 struct ContactScratch;  // the contacts stage's geometry and arrays (src/sim/contact_scratch.h)
