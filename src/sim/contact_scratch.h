@@ -15,15 +15,15 @@ namespace sim {
 
 struct ContactScratch {
   std::shared_ptr<CollisionCache> cache = makeCollisionCache();
-  std::vector<Contact> found;             ///< this step's detection
-  std::vector<int> slot_of_moving;        ///< per moving index: its solver slot, or −1
-  std::vector<int> moving_of_slot;        ///< per slot: the moving index
-  std::vector<cga::Bivelocity> kicked_B;  ///< per slot: Ω_B after the loads' kick
-  std::vector<SolverBody> bodies;         ///< per slot
-  std::vector<int> slot_a, slot_b;        ///< per contact
-  std::vector<ContactRow> rows;           ///< per contact
-  std::vector<std::size_t> previous;      ///< last step's contacts, sorted by their pair
-  std::vector<cga::Moment> impulse_B;     ///< per slot: the sum of its contact impulses, B
+  std::vector<Contact> found;                  ///< this step's detection
+  std::vector<int> slot_of_moving;             ///< per moving index: its solver slot, or −1
+  std::vector<int> moving_of_slot;             ///< per slot: the moving index
+  std::vector<cga::Bivelocity> kicked_B;       ///< per slot: Ω_B after the loads' kick
+  std::vector<SolverBody> bodies;              ///< per slot
+  std::vector<int> slot_a, slot_b;             ///< per contact
+  std::vector<ContactRow> rows;                ///< per contact
+  std::vector<std::size_t> previous;           ///< last step's contacts, sorted by their pair
+  std::vector<cga::Moment> impulse_B;          ///< per slot: the sum of its contact impulses, B
   std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN
   std::vector<char> landing;                   ///< per slot: it lands within the step
   std::vector<Contact> landed;                 ///< the landings' contacts, with impulses

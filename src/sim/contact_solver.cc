@@ -70,7 +70,7 @@ void setTargets(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     double target = d > 0 ? 0.0 : d / h;  // a gap may close, no more
     // An impact: the bodies approach faster than the resting threshold and touch within the
     // step. Newton's law sends them apart at e times the approach speed.
-    if (bounce && c.restitution > 0 && u_n < -st.rest_speed && (d > 0 || u_n * h < d)) {
+    if (bounce && c.restitution > 0 && u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
       c.impact = -u_n;
       target = std::max(target, c.restitution * c.impact);
     }
@@ -117,7 +117,8 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
 
 double kineticEnergy(const std::vector<SolverBody>& bodies) {
   double T = 0.0;
-  for (const SolverBody& b : bodies) T += 0.5 * (b.mass * b.v.squaredNorm() + b.w.dot(b.inertia * b.w));
+  for (const SolverBody& b : bodies)
+    T += 0.5 * (b.mass * b.v.squaredNorm() + b.w.dot(b.inertia * b.w));
   return T;
 }
 
@@ -204,12 +205,12 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     double change = 0.0;
     for (ContactRow& c : rows) {
       if (c.bias <= 0 && c.lambda_p == 0.0) continue;
-      const Eigen::Vector3d pa =
-          c.a >= 0 ? Eigen::Vector3d(bodies[c.a].pv + bodies[c.a].pw.cross(c.ra))
-                   : Eigen::Vector3d::Zero();
-      const Eigen::Vector3d pb =
-          c.b >= 0 ? Eigen::Vector3d(bodies[c.b].pv + bodies[c.b].pw.cross(c.rb))
-                   : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d pa = c.a >= 0
+                                     ? Eigen::Vector3d(bodies[c.a].pv + bodies[c.a].pw.cross(c.ra))
+                                     : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d pb = c.b >= 0
+                                     ? Eigen::Vector3d(bodies[c.b].pv + bodies[c.b].pw.cross(c.rb))
+                                     : Eigen::Vector3d::Zero();
       const double u = c.n.dot(pa - pb);
       const double lp = std::max(0.0, c.lambda_p + (c.bias - u) / c.k_nn);
       const double d = lp - c.lambda_p;

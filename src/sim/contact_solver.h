@@ -63,12 +63,15 @@ struct ContactRow {
 };
 
 struct SolverSettings {
-  double h = 0.001;           ///< step, s
-  double rest_speed = 0.0;    ///< approaches slower than this do not bounce, m/s
-  double slop = 5e-5;         ///< overlap left uncorrected, m
-  double correction = 0.2;    ///< fraction of the overlap beyond slop removed per step
-  int max_iterations = 100;   ///< Gauss–Seidel sweeps at most
-  double tolerance = 1e-13;   ///< stop when no sweep changes a velocity by more, m/s
+  double h = 0.001;         ///< step, s
+  double rest_speed = 0.0;  ///< landings slower than this do not bounce, m/s
+  /// Approaches slower than this (after the step's kick) do not bounce, m/s: rest_speed plus
+  /// what the kick adds, so a landing too slow to bounce does not bounce here either.
+  double bounce_speed = 0.0;
+  double slop = 5e-5;        ///< overlap left uncorrected, m
+  double correction = 0.2;   ///< fraction of the overlap beyond slop removed per step
+  int max_iterations = 100;  ///< Gauss–Seidel sweeps at most
+  double tolerance = 1e-13;  ///< stop when no sweep changes a velocity by more, m/s
 };
 
 struct SolveStats {

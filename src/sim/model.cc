@@ -46,8 +46,7 @@ std::optional<Error> checkSurface(const std::string& prefix, double mu, double e
   if (!std::isfinite(mu) || mu < 0)
     return Error("config", prefix + sep + "mu", "must be finite and >= 0 (got " + num(mu) + ")");
   if (!std::isfinite(e) || e < 0 || e > 1)
-    return Error("config", prefix + sep + "restitution",
-                 "must be in [0, 1] (got " + num(e) + ")");
+    return Error("config", prefix + sep + "restitution", "must be in [0, 1] (got " + num(e) + ")");
   return std::nullopt;
 }
 

@@ -15,16 +15,18 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
+// Gaps below this count as touching (the solver's residual lifts a resting body by ~1e-11 m).
+constexpr double kTouching = 1e-9;
+
 auto pairKey(const Contact& c) { return std::make_tuple(c.body_a, c.shape_a, c.body_b, c.shape_b); }
 
 // Last step's impulse of the same contact, if it existed: same pair of shapes and the same
 // vertex, or (no vertex known) a point within 2 mm.
 const Contact* previousOf(const Data& data, const ContactScratch& S, const Contact& c) {
   const auto key = pairKey(c);
-  auto it = std::lower_bound(S.previous.begin(), S.previous.end(), key,
-                             [&data](std::size_t k, const auto& v) {
-                               return pairKey(data.contacts[k]) < v;
-                             });
+  auto it = std::lower_bound(
+      S.previous.begin(), S.previous.end(), key,
+      [&data](std::size_t k, const auto& v) { return pairKey(data.contacts[k]) < v; });
   for (; it != S.previous.end() && pairKey(data.contacts[*it]) == key; ++it) {
     const Contact& p = data.contacts[*it];
     if (c.feature >= 0 ? p.feature == c.feature : (p.point_W - c.point_W).squaredNorm() < 4e-6)
@@ -53,8 +55,8 @@ cga::Bivelocity kicked(const Model& model, const MovingBodyData& b, int i) {
   return b.state.omega_B + h * I.solve(T, lambda);
 }
 
-SolverBody solverBody(const Model& model, const dynamics::BodyState& s, const cga::Bivelocity& omega_B,
-                      int i) {
+SolverBody solverBody(const Model& model, const dynamics::BodyState& s,
+                      const cga::Bivelocity& omega_B, int i) {
   const dynamics::Inertia& I = model.moving[i].inertia;
   const Eigen::Matrix3d R = s.M_WB.rotation().toRotationMatrix();
   SolverBody out;
@@ -72,8 +74,8 @@ SolverBody solverBody(const Model& model, const dynamics::BodyState& s, const cg
 // plane gaps: each contact point's height follows d(t) = gap + u t + ½ a t² (u its normal
 // velocity, a gravity's normal component; exact for a sphere, whose lowest point does not
 // depend on the rotation). 0 when none closes at more than the resting speed.
-double landingTime(const Model& model, const Data& data, const ContactScratch& S,
-                   std::size_t first, std::size_t last, double rest_speed) {
+double landingTime(const Model& model, const Data& data, const ContactScratch& S, std::size_t first,
+                   std::size_t last, double rest_speed) {
   const double h = model.config.dt;
   double t_land = 0.0;
   for (std::size_t k = first; k < last; ++k) {
@@ -107,10 +109,10 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
   b.integrator->reset();
   const double rest = std::max(h - t, 1e-9 * h);
   S.land_found.clear();
-  const double reach_speed = dynamics::comVelocity_W(b.state, lambda).norm() +
-                             dynamics::angularVelocity_W(b.state).norm();
-  detectPlaneContactsOf(model, data, *S.cache, model.moving[i].body,
-                        1e-9 + rest * reach_speed, S.land_found);
+  const double reach_speed =
+      dynamics::comVelocity_W(b.state, lambda).norm() + dynamics::angularVelocity_W(b.state).norm();
+  detectPlaneContactsOf(model, data, *S.cache, model.moving[i].body, 1e-9 + rest * reach_speed,
+                        S.land_found);
   double dissipated = 0.0;
   if (!S.land_found.empty()) {
     S.land_bodies.assign(1, solverBody(model, b.state, b.state.omega_B, i));
@@ -175,11 +177,11 @@ void solveContacts(const Model& model, Data& data) {
   }
 
   // A speculative contact whose gap stays open over the step is dropped: a body near the
-  // ground but not reaching it keeps its own path.
+  // ground but not reaching it keeps its own path. Touching contacts stay (a stack's).
   std::size_t kept = 0;
   for (std::size_t k = 0; k < S.found.size(); ++k) {
     const Contact& c = S.found[k];
-    if (c.depth <= 0) {
+    if (c.depth < -kTouching) {
       const int a = S.slot_a[k], b = S.slot_b[k];
       Eigen::Vector3d u = S.bodies[a].v + S.bodies[a].w.cross(c.point_W - S.bodies[a].x);
       if (b >= 0) u -= S.bodies[b].v + S.bodies[b].w.cross(c.point_W - S.bodies[b].x);
@@ -201,6 +203,7 @@ void solveContacts(const Model& model, Data& data) {
   SolverSettings settings;
   settings.h = h;
   settings.rest_speed = 2.0 * model.scene.gravity_W.norm() * h;
+  settings.bounce_speed = 3.0 * model.scene.gravity_W.norm() * h;
 
   // Landings: a body whose contacts are all gaps to the ground plane that close within the
   // step faster than the resting speed is stepped to the instant it lands and bounces there.
@@ -289,13 +292,15 @@ void solveContacts(const Model& model, Data& data) {
   common.assign(S.bodies.size(), Eigen::Vector3d::Zero());
   for (std::size_t k = 0; k < kept; ++k) {
     const ContactRow& r = S.rows[k];
-    const bool sustained = r.impact == 0.0 && r.depth >= -1e-12;
+    const bool sustained = r.impact == 0.0 && r.depth >= -kTouching;
     for (int side = 0; side < 2; ++side) {
       const int s = side ? r.b : r.a;
       if (s < 0) continue;
       Eigen::Vector3d& n = common[s];
-      if (!sustained) n.setConstant(std::numeric_limits<double>::quiet_NaN());
-      else if (n.isZero(0.0)) n = r.n;
+      if (!sustained)
+        n.setConstant(std::numeric_limits<double>::quiet_NaN());
+      else if (n.isZero(0.0))
+        n = r.n;
       else if (n.allFinite() && (n - r.n).norm() > 1e-9 && (n + r.n).norm() > 1e-9)
         n.setConstant(std::numeric_limits<double>::quiet_NaN());
     }
@@ -320,18 +325,28 @@ void solveContacts(const Model& model, Data& data) {
       const Eigen::Vector3d dv = v_start - v_end;
       b.contact_shift_W = 0.5 * h * (dv - common[s].dot(dv) * common[s]);
     }
-    // The position correction moves the pose only: x += h p_v, R ← exp(h p_w) R.
+    // The position correction moves the pose: x += h p_v, R ← exp(h p_w) R. It must not add
+    // energy: lifting the body by Δx against gravity costs ΔU = −m g·Δx, which is taken from
+    // its kinetic energy (at most half of it; the rest of the overlap waits for later steps).
     const SolverBody& sb = S.bodies[s];
     Eigen::Vector3d x = x_start;
     if (!sb.pv.isZero(0.0) || !sb.pw.isZero(0.0)) {
-      const Eigen::Vector3d dr = h * sb.pw;
+      double f = 1.0;
+      const double dU = -I.mass() * g.dot(h * sb.pv);
+      if (dU > 0) {
+        const double T_end = I.kineticEnergy(b.state.omega_B, lambda);
+        f = std::min(1.0, 0.5 * T_end / dU);
+        if (T_end > 0) b.state.omega_B = std::sqrt(1.0 - f * dU / T_end) * b.state.omega_B;
+      }
+      const Eigen::Vector3d dr = f * h * sb.pw;
       const double angle = dr.norm();
       Eigen::Quaterniond R = b.state.M_WB.rotation();
       if (angle > 0) R = Eigen::Quaterniond(Eigen::AngleAxisd(angle, dr / angle)) * R;
-      x += h * sb.pv;
+      x += f * h * sb.pv;
       b.state.M_WB = cga::Motor::fromPose(R.normalized(), x, lambda);
     }
-    const Eigen::Vector3d x_end = x + h * v_end + b.contact_shift_W;
+    const Eigen::Vector3d x_end =
+        x + h * dynamics::comVelocity_W(b.state, lambda) + b.contact_shift_W;
     double work = 0.0;
     if (b.loads.hasApplied()) {
       const cga::Moment T_applied = b.loads.appliedMoment_B(b.state.M_WB, lambda);

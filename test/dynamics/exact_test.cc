@@ -541,7 +541,8 @@ TEST(ExactIntegrator, GravityAloneWithoutSpinUpdatesTheVelocity) {
   const Inertia I = principal({0.05, 0.1, 0.13}, 2.0);
   const Eigen::Vector3d x0(1.0, -2.0, 3.0), v0_W(2.0, 1.0, 8.0), g(0.0, 0.0, -9.81);
   const double lambda = 1.0, h = 0.01;
-  BodyState s = makeState(Eigen::Quaterniond::Identity(), x0, Eigen::Vector3d::Zero(), v0_W, lambda);
+  BodyState s =
+      makeState(Eigen::Quaterniond::Identity(), x0, Eigen::Vector3d::Zero(), v0_W, lambda);
   Loads loads;
   loads.setGravity(g);
   ExactIntegrator integrator;

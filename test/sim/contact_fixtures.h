@@ -39,8 +39,8 @@ inline scene::BodyModel withSphere(scene::BodyModel b, double radius,
 
 /// A solid sphere of mass m, radius r at x with velocities (v, w) in world axes (B = world
 /// axes at the start).
-inline scene::BodyModel ball(const std::string& name, double m, double r,
-                             const Eigen::Vector3d& x, const Eigen::Vector3d& v = {0, 0, 0},
+inline scene::BodyModel ball(const std::string& name, double m, double r, const Eigen::Vector3d& x,
+                             const Eigen::Vector3d& v = {0, 0, 0},
                              const Eigen::Vector3d& w = {0, 0, 0}) {
   const double J = 0.4 * m * r * r;
   return withSphere(movingBody(name, m, {J, J, J}, Eigen::Quaterniond::Identity(), x, w, v), r);
@@ -53,8 +53,7 @@ inline scene::BodyModel block(const std::string& name, double m, const Eigen::Ve
   const Eigen::Vector3d s2 = size.cwiseProduct(size);
   const Eigen::Vector3d J =
       (m / 12.0) * Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y());
-  return withBox(movingBody(name, m, J, R, x, Eigen::Vector3d::Zero(), R.conjugate() * v),
-                 size);
+  return withBox(movingBody(name, m, J, R, x, Eigen::Vector3d::Zero(), R.conjugate() * v), size);
 }
 
 /// A world with a ground plane at z = 0 with (μ, e), default surfaces (μ0, e0).

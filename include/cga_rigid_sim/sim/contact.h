@@ -18,15 +18,15 @@ constexpr int kGroundPlane = -1;
 constexpr const char* kGroundPlaneName = "ground_plane";
 
 struct Contact {
-  int body_a = -1;   ///< body index j (scene.bodies), a moving body
-  int shape_a = -1;  ///< index in scene.bodies[body_a].shapes
+  int body_a = -1;            ///< body index j (scene.bodies), a moving body
+  int shape_a = -1;           ///< index in scene.bodies[body_a].shapes
   int body_b = kGroundPlane;  ///< body index j, or kGroundPlane
   int shape_b = -1;           ///< index in scene.bodies[body_b].shapes; −1 for the plane
-  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();   ///< contact point, world, m
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();    ///< contact point, world, m
   Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();  ///< unit, from b towards a
-  double depth = 0.0;        ///< penetration along the normal, m (≤ 0: gap)
-  int feature = -1;  ///< which point of shape a (a vertex for plane contacts), −1: unknown
-  double mu = 0.0;           ///< combined friction coefficient (doc/contacts.md)
+  double depth = 0.0;  ///< penetration along the normal, m (≤ 0: gap)
+  int feature = -1;    ///< which point of shape a (a vertex for plane contacts), −1: unknown
+  double mu = 0.0;     ///< combined friction coefficient (doc/contacts.md)
   double restitution = 0.0;  ///< combined coefficient of restitution
   /// The impulse of the last step on a (b receives its opposite): along the normal, N s, ≥ 0,
   /// and tangential (world axes, N s, |friction| ≤ mu·normal).

@@ -1,0 +1,266 @@
+// Contacts against analytic solutions (doc/contacts.md): bounces, slopes, sliding, rolling,
+// a stack, collisions between moving bodies, and a pile whose energy must never rise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "contact_fixtures.h"
+
+namespace cga_rigid_sim {
+namespace {
+
+using testing::ball;
+using testing::block;
+using testing::contactWorld;
+using testing::makeScene;
+using testing::momentumOf;
+using testing::slopeGravity;
+
+constexpr double kG = 9.81;
+
+sim::BodyStateReport stateNamed(const sim::World& w, const std::string& name) {
+  for (const auto& s : w.bodyStates())
+    if (s.name == name) return s;
+  ADD_FAILURE() << "no body " << name;
+  return {};
+}
+
+// Truth: a ball dropped from h0 onto a plane with restitution e rises to e^{2k} h0 after its
+// k-th bounce, and comes to rest at √(2h0/g)(1+e)/(1−e). Each flight is the exact parabola and
+// each bounce happens at the instant of touch (a landing), so the apexes are exact; measured at
+// the steps, an apex is missed by at most ½ g h² = 4.9e-6 m: tolerance 1e-5 m. The bounces stop
+// once the impact speed is below the resting threshold 2 g h: the flights left out last at most
+// 2·(2 g h)/(g (1 − e)) = 8 ms (e = 1/2), plus a step: tolerance 10 ms.
+TEST(Contacts, BouncingBallApexesAndTimeToRest) {
+  const double h0 = 1.0, r = 0.1, e = 0.5;
+  auto w = contactWorld(makeScene({ball("ball", 1.0, r, {0, 0, h0 + r})}, {0, 0, -kG}), 0.5, e);
+  double prev_vz = 0.0, last_moving = 0.0;
+  int k = 0;
+  for (int s = 0; s < 3000; ++s) {
+    w->step();
+    const auto b = stateNamed(*w, "ball");
+    const double vz = b.linear_velocity.z();
+    if (prev_vz > 0 && vz <= 0 && k < 4) {
+      ++k;
+      EXPECT_NEAR(b.com.z() - r, std::pow(e, 2 * k) * h0, 1e-5) << "apex " << k;
+    }
+    if (std::abs(vz) > 1e-12) last_moving = w->time();
+    prev_vz = vz;
+  }
+  EXPECT_EQ(k, 4);
+  const double t_rest = std::sqrt(2 * h0 / kG) * (1 + e) / (1 - e);
+  EXPECT_NEAR(last_moving, t_rest, 0.01);
+  // At rest on the plane: exactly touching, and the energy book balances.
+  const auto m = momentumOf(*w, "total");
+  EXPECT_NEAR(stateNamed(*w, "ball").com.z(), r, 1e-9);
+  EXPECT_NEAR(m.kinetic_energy + m.potential_energy + m.dissipated_energy, 1.0 * kG * (h0 + r),
+              1e-9);
+  std::printf("[ info ] bounce: at rest after %.4f s (analytic %.4f s)\n", last_moving, t_rest);
+}
+
+// Truth: a block on a slope of angle θ sticks iff tan θ ≤ μ; otherwise it slides with
+// a = g (sin θ − μ cos θ). The slope is the plane under gravity tilted by θ. Sliding along one
+// contact normal is integrated by the trapezoidal rule, exact for a constant acceleration:
+// round-off only, tolerance 1e-9 relative. Sticking: the friction impulse balances the
+// tangential kick exactly each step: drift below 1e-12 m in 2 s.
+TEST(Contacts, BlockOnSlopeSticksIffTanThetaAtMostMuElseSlides) {
+  const double mu = 0.4;
+  for (const double tan_theta : {0.9 * mu, 1.1 * mu, 2.0 * mu}) {
+    const double theta = std::atan(tan_theta);
+    auto w = contactWorld(
+        makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1})}, slopeGravity(kG, theta)), mu,
+        0.0);
+    w->step(2000);
+    const auto b = stateNamed(*w, "b");
+    const double a = kG * (std::sin(theta) - mu * std::cos(theta));
+    if (tan_theta <= mu) {
+      EXPECT_LE(std::abs(b.com.x()), 1e-12) << "tan θ = " << tan_theta;
+    } else {
+      EXPECT_NEAR(b.com.x(), 0.5 * a * 4.0, 1e-9 * 2.0 * a) << "tan θ = " << tan_theta;
+    }
+    EXPECT_NEAR(b.com.z(), 0.1, 1e-12);  // on the plane, never into it
+  }
+}
+
+// Truth: a block sliding at v0 on flat ground stops after v0²/(2 μ g), whatever the direction
+// of the push (the friction cone is round, not a pyramid). The deceleration μ g is exact each
+// step and the sliding trapezoidal; the last step, where the block stops within it, is off by
+// at most ½ μ g h² = 1.5e-6 m: tolerance 1e-5 m.
+TEST(Contacts, SlidingBlockStopsAfterV0SquaredOverTwoMuG) {
+  const double mu = 0.3, v0 = 2.0;
+  for (const double angle : {0.0, M_PI / 4, 1.0}) {
+    const Eigen::Vector3d v(v0 * std::cos(angle), v0 * std::sin(angle), 0.0);
+    auto w = contactWorld(
+        makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, v)}, {0, 0, -kG}), mu, 0.0);
+    w->step(2000);
+    const auto b = stateNamed(*w, "b");
+    EXPECT_NEAR(b.com.head<2>().norm(), v0 * v0 / (2 * mu * kG), 1e-5) << "angle " << angle;
+    EXPECT_LE(b.linear_velocity.norm(), 1e-12);
+    // Along the push: the path is straight.
+    EXPECT_LE(std::abs(b.com.head<2>().normalized().dot(Eigen::Vector2d(-v.y(), v.x()) / v0)),
+              1e-9);
+  }
+}
+
+// Truth: a ball launched sliding at v0 without spin decelerates at μ g while its spin grows at
+// 5 μ g/(2 r), until it rolls at t = 2 v0/(7 μ g) with v = 5 v0/7, and rolls on at that speed.
+// The friction impulse is exact per step (v = v0 − μ g t to the round-off of ~500 additions,
+// < 1e-10); the step in which it starts rolling ends rolling: v after it is 5 v0/7 to
+// round-off (1e-12), and the slip (< 1e-9 m/s) ends within one step of t.
+TEST(Contacts, SlidingBallStartsRollingAtTwoV0OverSevenMuG) {
+  const double mu = 0.2, v0 = 3.0, r = 0.1, h = 1e-3;
+  auto w =
+      contactWorld(makeScene({ball("s", 1.0, r, {0, 0, r}, {v0, 0, 0})}, {0, 0, -kG}), mu, 0.0, h);
+  const double t_roll = 2 * v0 / (7 * mu * kG);
+  double t_first_rolling = -1;
+  for (int s = 0; s < 1000; ++s) {
+    w->step();
+    const auto b = stateNamed(*w, "s");
+    const double slip = b.linear_velocity.x() - b.angular_velocity.y() * r;  // bottom point
+    if (t_first_rolling < 0 && std::abs(slip) < 1e-9) t_first_rolling = w->time();
+    if (t_first_rolling < 0) {
+      EXPECT_NEAR(b.linear_velocity.x(), v0 - mu * kG * w->time(), 1e-10);
+    }
+  }
+  EXPECT_NEAR(t_first_rolling, t_roll, h);
+  EXPECT_NEAR(stateNamed(*w, "s").linear_velocity.x(), 5 * v0 / 7, 1e-12);
+}
+
+// Truth: a ball rolls down a slope with a = (5/7) g sin θ when μ ≥ (2/7) tan θ. Trapezoidal
+// along the plane: round-off, tolerance 1e-9 relative.
+TEST(Contacts, BallRollsDownSlopeAtFiveSeventhsGSinTheta) {
+  const double theta = 0.3, r = 0.1;
+  const double mu = 1.2 * (2.0 / 7.0) * std::tan(theta);
+  auto w =
+      contactWorld(makeScene({ball("s", 1.0, r, {0, 0, r})}, slopeGravity(kG, theta)), mu, 0.0);
+  w->step(1000);
+  const double x = 0.5 * (5.0 / 7.0) * kG * std::sin(theta);
+  EXPECT_NEAR(stateNamed(*w, "s").com.x(), x, 1e-9 * x);
+}
+
+// Truth: a stack of ten boxes on the ground stays put. It settles once (each box falls into
+// the one below until the contact holds it: ≈ g h² = 1e-5 m per box, so < 1e-4 m at the top)
+// and then must not move: drift < 0.1 mm over 10 s, and from 5 s on the kinetic energy at the
+// solver's round-off (it stops at residuals of 1e-13 m/s per sweep; velocities below 3e-10 m/s,
+// seven orders under the step's kick g h = 1e-2 m/s, give < 1e-18 J).
+TEST(Contacts, StackOfTenBoxesStaysPut) {
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 10; ++i)
+    bodies.push_back(block("b" + std::to_string(i), 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1 + 0.2 * i}));
+  auto w = contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.0);
+  const auto s0 = w->bodyStates();
+  double drift = 0.0, late_ke = 0.0;
+  for (int s = 0; s < 10000; ++s) {
+    w->step();
+    if (s % 100 == 99) {
+      const auto st = w->bodyStates();
+      for (std::size_t i = 0; i < st.size(); ++i)
+        drift = std::max(drift, (st[i].com - s0[i].com).norm());
+      if (w->time() >= 5.0) late_ke = std::max(late_ke, momentumOf(*w, "total").kinetic_energy);
+    }
+  }
+  EXPECT_LT(drift, 1e-4);
+  EXPECT_LT(late_ke, 1e-18);
+  std::printf("[ info ] stack of 10: drift %.2e m, kinetic energy after 5 s ≤ %.1e J\n", drift,
+              late_ke);
+}
+
+// Truth: contact impulses are internal: two balls colliding obliquely with friction keep their
+// total linear momentum (round-off, 1e-14 relative) and lose kinetic energy, never gain it.
+// Head on, frictionless, e = 1, equal masses: they exchange velocities exactly.
+TEST(Contacts, CollisionsBetweenMovingBodiesConserveMomentum) {
+  auto w = contactWorld(makeScene({ball("a", 1.0, 0.1, {0, 0, 0}, {1, 0, 0}, {0, 0, 3}),
+                                   ball("b", 2.0, 0.1, {0.5, 0.05, 0}, {-1, 0, 0})}),
+                        0.3, 1.0, 1e-3, false);
+  const auto p0 = momentumOf(*w, "total");
+  w->step(1000);
+  const auto p1 = momentumOf(*w, "total");
+  EXPECT_LE((p1.linear - p0.linear).norm(), 1e-14 * p0.linear.norm() + 1e-15);
+  EXPECT_LE(p1.kinetic_energy, p0.kinetic_energy);
+  EXPECT_GT(p1.dissipated_energy, 0.0);
+
+  auto h = contactWorld(makeScene({ball("a", 1.0, 0.1, {0, 0, 0}, {1, 0, 0}),
+                                   ball("b", 1.0, 0.1, {0.5, 0, 0}, {-1, 0, 0})}),
+                        0.0, 1.0, 1e-3, false);
+  h->step(1000);
+  EXPECT_NEAR(stateNamed(*h, "a").linear_velocity.x(), -1.0, 1e-12);
+  EXPECT_NEAR(stateNamed(*h, "b").linear_velocity.x(), 1.0, 1e-12);
+}
+
+// Truth (the documented impulse ordering, doc/contacts.md#impacts): the contacts of a step are
+// solved together, Gauss–Seidel in detection order, and only an approaching contact bounces.
+// Newton's cradle of five equal touching balls (e = 1, frictionless) struck by a sixth: the
+// row's momentum is kept (round-off, 1e-14), kinetic energy never rises, the balls leave in
+// order (none overtakes the one ahead, so none passes through another) and the last leaves
+// fastest. Simultaneous impulses share the blow along the row rather than passing it on ball
+// by ball (which needs a sequence of impacts within the step): the doc shows the numbers.
+TEST(Contacts, NewtonsCradleFollowsTheSimultaneousOrdering) {
+  std::vector<scene::BodyModel> balls;
+  balls.push_back(ball("b0", 1.0, 0.1, {-0.3, 0, 0}, {1, 0, 0}));
+  for (int i = 1; i < 6; ++i)
+    balls.push_back(ball("b" + std::to_string(i), 1.0, 0.1, {0.2 * i - 0.2, 0, 0}));
+  auto w = contactWorld(makeScene(balls), 0.0, 1.0, 1e-3, false);
+  const auto m0 = momentumOf(*w, "total");
+  double ke_max = m0.kinetic_energy;
+  for (int s = 0; s < 500; ++s) {
+    w->step();
+    ke_max = std::max(ke_max, momentumOf(*w, "total").kinetic_energy);
+  }
+  const auto m1 = momentumOf(*w, "total");
+  EXPECT_NEAR(m1.linear.x(), m0.linear.x(), 1e-14);
+  EXPECT_LE(ke_max, m0.kinetic_energy * (1 + 1e-12));
+  std::printf("[ info ] cradle velocities:");
+  for (int i = 0; i < 6; ++i) {
+    const double v = stateNamed(*w, "b" + std::to_string(i)).linear_velocity.x();
+    std::printf(" %.4f", v);
+    if (i > 0) {
+      EXPECT_GE(v, stateNamed(*w, "b" + std::to_string(i - 1)).linear_velocity.x() - 1e-12);
+    }
+  }
+  std::printf("\n");
+}
+
+// Truth: energy is never created: in a random pile of 100 boxes and balls dropped on the ground
+// (e up to 0.5, μ 0.5), kinetic + potential energy never rises from one step to the next over
+// 10 s beyond round-off of the total (1e-9 J of ~1e3 J), and the book balances:
+// kinetic + potential + dissipated = initial (1e-6 relative: the contacts' position
+// correction and the splitting's first-order terms are booked, not lost).
+TEST(Contacts, EnergyNeverRisesInARandomPile) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d x(0.5 * u(rng), 0.5 * u(rng), 0.5 + 0.25 * i);
+    const Eigen::Vector3d v(u(rng), u(rng), u(rng));
+    const std::string name = "p" + std::to_string(i);
+    if (i % 2) {
+      bodies.push_back(ball(name, 1.0 + 0.5 * u(rng), 0.1, x, v, {u(rng), u(rng), u(rng)}));
+    } else {
+      const Eigen::Quaterniond R(
+          Eigen::AngleAxisd(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), 1).normalized()));
+      bodies.push_back(block(name, 1.0 + 0.5 * u(rng), {0.2, 0.15, 0.1}, x, v, R));
+    }
+  }
+  auto w = contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.3);
+  const auto m0 = momentumOf(*w, "total");
+  const double e0 = m0.kinetic_energy + m0.potential_energy;
+  double prev = e0, worst_rise = 0.0;
+  for (int s = 0; s < 10000; ++s) {
+    w->step();
+    const auto m = momentumOf(*w, "total");
+    const double e = m.kinetic_energy + m.potential_energy;
+    worst_rise = std::max(worst_rise, e - prev);
+    prev = e;
+  }
+  const auto m1 = momentumOf(*w, "total");
+  EXPECT_LE(worst_rise, 1e-9);
+  EXPECT_NEAR(m1.kinetic_energy + m1.potential_energy + m1.dissipated_energy, e0,
+              1e-6 * std::abs(e0));
+  std::printf("[ info ] pile of 100: largest one-step energy rise %.2e J, energy %.3f → %.3f J\n",
+              worst_rise, e0, prev);
+}
+
+}  // namespace
+}  // namespace cga_rigid_sim
