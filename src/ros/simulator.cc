@@ -53,6 +53,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueueSize);
   momentum_pub_ = pnh_.advertise<cga_rigid_sim::MomentumArray>("momentum", kOutputQueueSize);
   body_states_pub_ = pnh_.advertise<cga_rigid_sim::BodyStateArray>("body_states", kOutputQueueSize);
+  contacts_pub_ = pnh_.advertise<cga_rigid_sim::ContactArray>("contacts", kOutputQueueSize);
   rejected_pub_ = pnh_.advertise<std_msgs::UInt64>("rejected_inputs", 1, /*latch=*/true);
 
   subscribers_.push_back(
@@ -87,8 +88,8 @@ int Simulator::run() {
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
                                 : "every step";
   ROS_INFO(
-      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum and body states at "
-      "%g Hz; /clock %s%s",
+      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states and "
+      "contacts at %g Hz; /clock %s%s",
       world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
       params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
       params_.publish_rate, clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
@@ -180,6 +181,8 @@ void Simulator::publishOutputs() {
     momentum_pub_.publish(toMomentumArrayMsg(world_->momentum(), stamp, world_frame));
   if (body_states_pub_.getNumSubscribers() > 0)
     body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
+  if (contacts_pub_.getNumSubscribers() > 0)
+    contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
 }
 
 void Simulator::publishClock() {
