@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/ros/conversions.h"
 
 namespace cga_rigid_sim {
@@ -93,6 +94,20 @@ int Simulator::run() {
       world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
       params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
       params_.publish_rate, clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
+
+  const sim::WorldConfig& config = world_->config();
+  const std::string plane =
+      config.ground_plane
+          ? "ground plane at z = " + formatNumber(config.ground_plane->height) + " m (mu " +
+                formatNumber(config.ground_plane->surface.mu.value_or(config.contact_mu)) +
+                ", restitution " +
+                formatNumber(
+                    config.ground_plane->surface.restitution.value_or(config.contact_restitution)) +
+                ")"
+          : "no ground plane";
+  ROS_INFO("simulator: %s; surfaces without their own: mu %s, restitution %s", plane.c_str(),
+           formatNumber(config.contact_mu).c_str(),
+           formatNumber(config.contact_restitution).c_str());
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
