@@ -228,19 +228,21 @@ cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r) {
   m.angular_origin = toVector3Msg(r.angular_origin);
   m.kinetic_energy = r.kinetic_energy;
   m.potential_energy = r.potential_energy;
+  m.dissipated_energy = r.dissipated_energy;
   return m;
 }
 
 namespace {
-// An array message: a header in the world frame and one entry per report.
-template <class ArrayMsg, class Report, class Convert>
+// An array message: a header in the world frame and one entry per report in its field `items`
+// (bodies, contacts).
+template <class ArrayMsg, class Items, class Report, class Convert>
 ArrayMsg toArrayMsg(const std::vector<Report>& reports, const ::ros::Time& stamp,
-                    const std::string& world_frame, Convert convert) {
+                    const std::string& world_frame, Items ArrayMsg::*items, Convert convert) {
   ArrayMsg m;
   m.header.stamp = stamp;
   m.header.frame_id = world_frame;
-  m.bodies.reserve(reports.size());
-  for (const auto& r : reports) m.bodies.push_back(convert(r));
+  (m.*items).reserve(reports.size());
+  for (const auto& r : reports) (m.*items).push_back(convert(r));
   return m;
 }
 }  // namespace
@@ -248,7 +250,8 @@ ArrayMsg toArrayMsg(const std::vector<Report>& reports, const ::ros::Time& stamp
 cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
                                                 const ::ros::Time& stamp,
                                                 const std::string& world_frame) {
-  return toArrayMsg<cga_rigid_sim::MomentumArray>(reports, stamp, world_frame, toMomentumMsg);
+  return toArrayMsg(reports, stamp, world_frame, &cga_rigid_sim::MomentumArray::bodies,
+                    toMomentumMsg);
 }
 
 cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
@@ -268,7 +271,29 @@ cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
 cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
                                                   const ::ros::Time& stamp,
                                                   const std::string& world_frame) {
-  return toArrayMsg<cga_rigid_sim::BodyStateArray>(reports, stamp, world_frame, toBodyStateMsg);
+  return toArrayMsg(reports, stamp, world_frame, &cga_rigid_sim::BodyStateArray::bodies,
+                    toBodyStateMsg);
+}
+
+cga_rigid_sim::Contact toContactMsg(const sim::ContactReport& r) {
+  cga_rigid_sim::Contact m;
+  m.body_a = r.body_a;
+  m.link_a = r.link_a;
+  m.body_b = r.body_b;
+  m.link_b = r.link_b;
+  m.position = toPointMsg(r.point);
+  m.normal = toVector3Msg(r.normal);
+  m.depth = r.depth;
+  m.normal_impulse = r.normal_impulse;
+  m.friction_impulse = toVector3Msg(r.friction_impulse);
+  return m;
+}
+
+cga_rigid_sim::ContactArray toContactArrayMsg(const std::vector<sim::ContactReport>& reports,
+                                              const ::ros::Time& stamp,
+                                              const std::string& world_frame) {
+  return toArrayMsg(reports, stamp, world_frame, &cga_rigid_sim::ContactArray::contacts,
+                    toContactMsg);
 }
 
 geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,

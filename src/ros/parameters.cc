@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -49,13 +51,20 @@ Result<double> asNumber(const XmlRpcValue& v, const std::string& name) {
   return wrongType(name, "a number", v);
 }
 
+// A finite number (int or double) as double.
+Result<double> asFiniteNumber(const XmlRpcValue& v, const std::string& name) {
+  auto d = asNumber(v, name);
+  if (!d) return Error{d.error()};
+  if (!std::isfinite(*d)) return Error{name + ": not finite"};
+  return *d;
+}
+
 // Each reader leaves `out` unchanged (the default) when the parameter is not set.
 Result<bool> readNumber(const ::ros::NodeHandle& pnh, const std::string& key, double* out) {
   XmlRpcValue v;
   if (!pnh.getParam(key, v)) return false;
-  auto d = asNumber(v, "~" + key);
+  auto d = asFiniteNumber(v, "~" + key);
   if (!d) return Error{d.error()};
-  if (!std::isfinite(*d)) return Error{"~" + key + ": not finite"};
   *out = *d;
   return true;
 }
@@ -84,12 +93,83 @@ Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key,
     return Error{"~" + key + ": expected a list of 3 numbers, got " + typeName(v)};
   Eigen::Vector3d x;
   for (int i = 0; i < 3; ++i) {
-    auto d = asNumber(v[i], "~" + key + "[" + std::to_string(i) + "]");
+    auto d = asFiniteNumber(v[i], "~" + key + "[" + std::to_string(i) + "]");
     if (!d) return Error{d.error()};
-    if (!std::isfinite(*d)) return Error{"~" + key + "[" + std::to_string(i) + "]: not finite"};
     x[i] = *d;
   }
   *out = x;
+  return true;
+}
+
+// How ~ground_plane is written, for its errors.
+constexpr const char* kGroundPlaneForm =
+    "a dictionary such as {height: 0.0, mu: 0.8, restitution: 0.2} (every key optional)";
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\n");
+  if (first == std::string::npos) return {};
+  return s.substr(first, s.find_last_not_of(" \t\n") - first + 1);
+}
+
+// A one-level YAML flow mapping of plain scalars, "{height: 0.0, mu: 0.8}", as the dictionary
+// rosparam would have made of it: a value that reads whole as a number becomes a double, any
+// other a string (which the dictionary's rules then refuse by name). rosrun's
+// _ground_plane:={...} and a launch file's <param value="{...}"/> hand the parameter over as
+// such a string. Nothing else is YAML here: a string that is not of this form is refused.
+Result<XmlRpcValue> parseFlowMapping(const std::string& text, const std::string& name) {
+  const std::string t = trim(text);
+  const Error refused{name + ": expected " + kGroundPlaneForm + ", got string '" + text + "'"};
+  if (t.size() < 2 || t.front() != '{' || t.back() != '}') return refused;
+  XmlRpcValue map;
+  map.begin();  // an empty struct, not an invalid value, for "{}"
+  const std::string inner = trim(t.substr(1, t.size() - 2));
+  if (inner.empty()) return map;
+  std::size_t start = 0;
+  while (start <= inner.size()) {
+    const std::size_t comma = std::min(inner.find(',', start), inner.size());
+    const std::string item = inner.substr(start, comma - start);
+    const std::size_t colon = item.find(':');
+    if (colon == std::string::npos) return refused;
+    const std::string key = trim(item.substr(0, colon));
+    const std::string value = trim(item.substr(colon + 1));
+    if (key.empty() || value.empty()) return refused;
+    if (map.hasMember(key)) return Error{name + "." + key + ": given twice"};
+    char* end = nullptr;
+    const double d = std::strtod(value.c_str(), &end);
+    if (end == value.c_str() + value.size())
+      map[key] = d;
+    else
+      map[key] = value;
+    start = comma + 1;
+  }
+  return map;
+}
+
+// ~ground_plane: a dictionary {height (m), mu, restitution}, each key optional (height 0, μ and
+// e unset = ~contact_mu, ~contact_restitution), or the same as a string (parseFlowMapping).
+// Unset: no plane. The core checks the ranges (μ >= 0, e in [0, 1]).
+Result<bool> readGroundPlane(const ::ros::NodeHandle& pnh, std::optional<sim::GroundPlane>* out) {
+  const std::string name = "~ground_plane";
+  XmlRpcValue v;
+  if (!pnh.getParam("ground_plane", v)) return false;
+  if (v.getType() == XmlRpcValue::TypeString) {
+    auto parsed = parseFlowMapping(static_cast<const std::string&>(v), name);
+    if (!parsed) return Error{parsed.error()};
+    v = *parsed;
+  }
+  if (v.getType() != XmlRpcValue::TypeStruct) return wrongType(name, kGroundPlaneForm, v);
+  sim::GroundPlane plane;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string field = name + "." + it->first;
+    if (it->first != "height" && it->first != "mu" && it->first != "restitution")
+      return Error{field + ": unknown key (known: height, mu, restitution)"};
+    auto d = asFiniteNumber(it->second, field);
+    if (!d) return Error{d.error()};
+    if (it->first == "height") plane.height = *d;
+    if (it->first == "mu") plane.surface.mu = *d;
+    if (it->first == "restitution") plane.surface.restitution = *d;
+  }
+  *out = plane;
   return true;
 }
 
@@ -97,10 +177,11 @@ Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key,
 
 const std::vector<std::string>& knownPrivateParams() {
   static const std::vector<std::string> kNames = {
-      "urdf_file",  "initial_state",    "integrator",    "dt",
-      "gravity",    "real_time_factor", "publish_rate",  "publish_clock",
-      "clock_rate", "world_frame",      "paused",        "lambda",
-      "max_force",  "max_impulse",      "relax_inertia", "threads"};
+      "urdf_file", "initial_state", "integrator", "dt", "gravity", "real_time_factor",
+      "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
+      "max_impulse", "relax_inertia", "threads",
+      // contacts
+      "ground_plane", "contact_mu", "contact_restitution"};
   return kNames;
 }
 
@@ -187,6 +268,9 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   CGA_RIGID_SIM_READ(readBool(pnh, "relax_inertia", &relax_inertia));
   p.scene.triangle_policy = relax_inertia ? dynamics::TrianglePolicy::kNearestPhysical
                                           : dynamics::TrianglePolicy::kRefuse;
+  CGA_RIGID_SIM_READ(readGroundPlane(pnh, &p.world.ground_plane));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution));
   XmlRpcValue initial_state;
   if (pnh.getParam("initial_state", initial_state)) {
     auto value = toParamValue(initial_state, "~initial_state");

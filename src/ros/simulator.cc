@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/ros/conversions.h"
 
 namespace cga_rigid_sim {
@@ -53,6 +54,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueueSize);
   momentum_pub_ = pnh_.advertise<cga_rigid_sim::MomentumArray>("momentum", kOutputQueueSize);
   body_states_pub_ = pnh_.advertise<cga_rigid_sim::BodyStateArray>("body_states", kOutputQueueSize);
+  contacts_pub_ = pnh_.advertise<cga_rigid_sim::ContactArray>("contacts", kOutputQueueSize);
   rejected_pub_ = pnh_.advertise<std_msgs::UInt64>("rejected_inputs", 1, /*latch=*/true);
 
   subscribers_.push_back(
@@ -87,11 +89,25 @@ int Simulator::run() {
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
                                 : "every step";
   ROS_INFO(
-      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum and body states at "
-      "%g Hz; /clock %s%s",
+      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states and "
+      "contacts at %g Hz; /clock %s%s",
       world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
       params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
       params_.publish_rate, clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
+
+  const sim::WorldConfig& config = world_->config();
+  const std::string plane =
+      config.ground_plane
+          ? "ground plane at z = " + formatNumber(config.ground_plane->height) + " m (mu " +
+                formatNumber(config.ground_plane->surface.mu.value_or(config.contact_mu)) +
+                ", restitution " +
+                formatNumber(
+                    config.ground_plane->surface.restitution.value_or(config.contact_restitution)) +
+                ")"
+          : "no ground plane";
+  ROS_INFO("simulator: %s; surfaces without their own: mu %s, restitution %s", plane.c_str(),
+           formatNumber(config.contact_mu).c_str(),
+           formatNumber(config.contact_restitution).c_str());
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
@@ -180,6 +196,8 @@ void Simulator::publishOutputs() {
     momentum_pub_.publish(toMomentumArrayMsg(world_->momentum(), stamp, world_frame));
   if (body_states_pub_.getNumSubscribers() > 0)
     body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
+  if (contacts_pub_.getNumSubscribers() > 0)
+    contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
 }
 
 void Simulator::publishClock() {

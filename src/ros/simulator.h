@@ -65,8 +65,8 @@ class Simulator {
   /// shutdown.
   void advance(std::uint64_t n);
   void publishAfterStep();
-  /// tf (moving frames), momentum and body states at the current step, unless tf for this
-  /// stamp was already sent (tf2 must never see the same stamp twice).
+  /// tf (moving frames), momentum, body states and contacts at the current step, unless tf for
+  /// this stamp was already sent (tf2 must never see the same stamp twice).
   void publishOutputs();
   void publishClock();
   /// The latched /tf_static: every static frame in one message (resent when bodies change).
@@ -121,7 +121,7 @@ class Simulator {
   std::uint64_t static_version_ = UINT64_MAX;
 
   ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
-  ::ros::Publisher momentum_pub_, body_states_pub_, rejected_pub_;
+  ::ros::Publisher momentum_pub_, body_states_pub_, contacts_pub_, rejected_pub_;
   std::vector<::ros::Subscriber> subscribers_;
   std::vector<::ros::ServiceServer> services_;
 };

@@ -40,7 +40,11 @@ int main(int argc, char** argv) {
 
   auto world = sim::World::create(std::move(*scene), params->world);
   if (!world) {
-    ROS_FATAL("simulator: %s", world.error().c_str());
+    // The core's configuration fields are the node's parameters: name them so
+    // ("~contact_mu: must be ...", not "config.contact_mu: must be ...").
+    const Error& e = world.failure();
+    const std::string text = e.input == "config" ? "~" + e.field + ": " + e.rule : e.message();
+    ROS_FATAL("simulator: %s", text.c_str());
     return 1;
   }
 

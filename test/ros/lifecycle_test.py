@@ -18,43 +18,33 @@ import tempfile
 import time
 import unittest
 
-import roslib.packages
 import rospy
 import rostest
 from cga_rigid_sim.srv import Step
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from sim_test_util import wait_until  # noqa: E402
+from sim_test_util import start_failure, start_simulator, wait_until  # noqa: E402
 import rosservice  # noqa: E402
 
 URDF = os.path.join(os.path.dirname(os.path.realpath(__file__)), 'bodies.urdf')
 SHUTDOWN_LIMIT = 1.0  # s
 
 
-def simulator_executable():
-    found = roslib.packages.find_node('cga_rigid_sim', 'simulator')
-    assert found, 'the simulator executable is not built'
-    return found[0]
-
-
 class LifecycleTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('lifecycle_test')
-        cls.exe = simulator_executable()
         cls.count = 0
 
     def start(self, *args):
         LifecycleTest.count += 1
         name = 'sim_%d' % LifecycleTest.count
-        proc = subprocess.Popen([self.exe, '__name:=' + name] + list(args),
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        return name, proc
+        return name, start_simulator(name, *args)
 
     def assertFailsToStart(self, expected_text, *args):
-        _, proc = self.start(*args)
-        out, _ = proc.communicate(timeout=20.0)
-        self.assertEqual(proc.returncode, 1, out)
+        LifecycleTest.count += 1
+        status, out = start_failure('sim_%d' % LifecycleTest.count, *args)
+        self.assertEqual(status, 1, out)
         self.assertIn('FATAL', out)
         self.assertIn(expected_text, out)
 

@@ -15,7 +15,7 @@ import time
 import rosgraph
 import roslib.packages
 import rospy
-from cga_rigid_sim.msg import BodyStateArray, CgaImpulse, CgaWrench, MomentumArray
+from cga_rigid_sim.msg import BodyStateArray, CgaImpulse, CgaWrench, ContactArray, MomentumArray
 from cga_rigid_sim.srv import DeleteBody, GetBodyState, SetBodyState, SpawnUrdf, Step
 from geometry_msgs.msg import WrenchStamped
 from std_msgs.msg import UInt64
@@ -61,11 +61,14 @@ class Simulator(object):
         self._lock = threading.Lock()
         self.momenta = {}       # stamp (rospy.Time) -> MomentumArray
         self.body_states = {}   # stamp -> BodyStateArray
+        self.contacts = {}      # stamp -> ContactArray
         self.rejected = None    # last ~rejected_inputs count
         subscribers = [
             rospy.Subscriber(node + '/momentum', MomentumArray, self._on_momentum,
                              queue_size=None),
             rospy.Subscriber(node + '/body_states', BodyStateArray, self._on_body_states,
+                             queue_size=None),
+            rospy.Subscriber(node + '/contacts', ContactArray, self._on_contacts,
                              queue_size=None),
             rospy.Subscriber(node + '/rejected_inputs', UInt64, self._on_rejected,
                              queue_size=10)]
@@ -121,6 +124,10 @@ class Simulator(object):
         with self._lock:
             self.body_states[msg.header.stamp] = msg
 
+    def _on_contacts(self, msg):
+        with self._lock:
+            self.contacts[msg.header.stamp] = msg
+
     def _on_rejected(self, msg):
         self.rejected = msg.data
 
@@ -129,6 +136,12 @@ class Simulator(object):
         wait_until(lambda: stamp in self.momenta, timeout,
                    'momentum stamped %.9f' % stamp.to_sec())
         return self.momenta[stamp]
+
+    def contacts_at(self, stamp, timeout=TIMEOUT):
+        """The ~contacts message stamped `stamp` (waits for it)."""
+        wait_until(lambda: stamp in self.contacts, timeout,
+                   'contacts stamped %.9f' % stamp.to_sec())
+        return self.contacts[stamp]
 
     def momentum_stamps_after(self, t):
         """Stamps of the ~momentum messages received so far that are later than t, sorted."""
@@ -155,6 +168,28 @@ class Simulator(object):
     def wait_rejected(self, count, timeout=TIMEOUT):
         wait_until(lambda: self.rejected == count, timeout,
                    '~rejected_inputs == %d (now %s)' % (count, self.rejected))
+
+
+def simulator_executable():
+    """Path of the built simulator node, for tests that start their own processes."""
+    found = roslib.packages.find_node('cga_rigid_sim', 'simulator')
+    assert found, 'the simulator executable is not built'
+    return found[0]
+
+
+def start_simulator(name, *args):
+    """Starts a simulator process as node `name` with rosrun-style arguments ('_dt:=0.01'),
+    against the test's master. Its stdout and stderr both go to proc.stdout (text)."""
+    return subprocess.Popen([simulator_executable(), '__name:=' + name] + list(args),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+def start_failure(name, *args, timeout=TIMEOUT):
+    """Starts a simulator that is expected to refuse its start; returns (exit status, output)
+    once it has ended."""
+    proc = start_simulator(name, *args)
+    out, _ = proc.communicate(timeout=timeout)
+    return proc.returncode, out
 
 
 class Recorder(object):

@@ -14,6 +14,8 @@
 #include <cga_rigid_sim/BodyStateArray.h>
 #include <cga_rigid_sim/CgaImpulse.h>
 #include <cga_rigid_sim/CgaWrench.h>
+#include <cga_rigid_sim/Contact.h>
+#include <cga_rigid_sim/ContactArray.h>
 #include <cga_rigid_sim/Momentum.h>
 #include <cga_rigid_sim/MomentumArray.h>
 #include <geometry_msgs/Point.h>
@@ -109,6 +111,11 @@ cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r);
 cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
                                                   const ::ros::Time& stamp,
                                                   const std::string& world_frame);
+/// A contact of the last step: names, point and normal (world), depth, impulses on body a.
+cga_rigid_sim::Contact toContactMsg(const sim::ContactReport& r);
+cga_rigid_sim::ContactArray toContactArrayMsg(const std::vector<sim::ContactReport>& reports,
+                                              const ::ros::Time& stamp,
+                                              const std::string& world_frame);
 geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,
                                                       const ::ros::Time& stamp);
 tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,

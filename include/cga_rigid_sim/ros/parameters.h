@@ -28,10 +28,12 @@ struct NodeParams {
 
   scene::SceneOptions scene;  ///< ~lambda, ~gravity, ~relax_inertia, ~world_frame,
                               ///< ~initial_state
-  sim::WorldConfig world;     ///< ~dt, ~integrator, ~world_frame, ~max_force, ~max_impulse
+  sim::WorldConfig world;     ///< ~dt, ~integrator, ~world_frame, ~max_force, ~max_impulse,
+                              ///< ~threads, ~ground_plane, ~contact_mu, ~contact_restitution
 
   double real_time_factor = 1.0;  ///< ~real_time_factor: sim s per wall s; 0 = max speed
-  double publish_rate = 100.0;    ///< ~publish_rate: tf, momentum, body states, Hz (sim)
+  double publish_rate = 100.0;    ///< ~publish_rate: tf, momentum, body states, contacts,
+                                  ///< Hz (sim)
   bool publish_clock = true;      ///< ~publish_clock
   double clock_rate = 0.0;        ///< ~clock_rate: Hz (sim); 0 = every step
   bool paused = false;            ///< ~paused: start paused
