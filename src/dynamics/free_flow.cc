@@ -340,7 +340,8 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   const Eigen::Vector3d& J = inertia.principalMoments();
 
   // The cache is valid when the state is the one it left (bit for bit) for the same moments.
-  const bool valid = cache.path != Path::kNone && cache.key_J == J && cache.key_r == r0.coeffs() && cache.key_w == w;
+  const bool valid = cache.path != Path::kNone && cache.key_J == J && cache.key_r == r0.coeffs() &&
+                     cache.key_w == w;
   if (!valid) build(inertia, r0, w, cache);
 
   // Centre of mass (world): x(t) = x_a + v_a t + ½ g t², v(t) = v_a + g t, evaluated from an
@@ -436,7 +437,9 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
 
   state.M_WB = cga::Motor::fromPose(r, c.x_W, lambda);
   state.omega_B.rot = w_new;
-  state.omega_B.trans = (r.conjugate() * v_W) / lambda;
+  // A body that neither spins nor falls keeps v_B bit for bit (no round trip through v_W).
+  if (c.path != Path::kStill || !g_W.isZero(0.0))
+    state.omega_B.trans = (r.conjugate() * v_W) / lambda;
   c.key_J = J;
   c.key_r = r.coeffs();
   c.key_w = w_new;

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   for (const auto& w : scene->warnings) ROS_WARN("simulator: %s", w.c_str());
+  const std::size_t scene_warnings = scene->warnings.size();
   node::logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
 
   auto world = sim::World::create(std::move(*scene), params->world);
@@ -47,6 +48,11 @@ int main(int argc, char** argv) {
     ROS_FATAL("simulator: %s", text.c_str());
     return 1;
   }
+
+  // Warnings the world adds (bodies that start overlapping), after the scene's own.
+  const auto& all = (*world)->scene().warnings;
+  for (std::size_t k = scene_warnings; k < all.size(); ++k)
+    ROS_WARN("simulator: %s", all[k].c_str());
 
   node::Simulator simulator(nh, pnh, *params, std::move(*world));
   return simulator.run();

@@ -312,6 +312,33 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
   }
 }
 
+std::vector<std::string> overlapWarnings(const Model& model, const Data& data, double depth) {
+  CollisionCache cache;
+  std::vector<Contact> found;
+  detectContacts(model, data, cache, found);
+  std::vector<std::string> out;
+  std::vector<std::pair<int, int>> said;
+  for (const Contact& c : found) {
+    if (c.depth <= depth) continue;
+    const std::pair<int, int> pair(c.body_a, c.body_b);
+    if (std::find(said.begin(), said.end(), pair) != said.end()) continue;
+    double deepest = c.depth;
+    for (const Contact& d : found)
+      if (d.body_a == c.body_a && d.body_b == c.body_b) deepest = std::max(deepest, d.depth);
+    said.push_back(pair);
+    const auto name = [&model](int j, int shape) {
+      if (j == kGroundPlane) return std::string("the ground plane");
+      const scene::BodyModel& b = model.scene.bodies[j];
+      return "body '" + b.name + "' (link '" + b.links[b.shapes[shape].link_index].link + "')";
+    };
+    out.push_back(name(c.body_a, c.shape_a) + " and " + name(c.body_b, c.shape_b) + " overlap by " +
+                  std::to_string(deepest) +
+                  " m at the start: they are pushed apart without adding energy (against "
+                  "gravity only as far as their kinetic energy pays for it)");
+  }
+  return out;
+}
+
 void detectPlaneContactsOf(const Model& model, const Data& data, CollisionCache& cache, int j,
                            double margin, std::vector<Contact>& out) {
   if (!model.config.ground_plane) return;

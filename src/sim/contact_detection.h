@@ -13,6 +13,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cga_rigid_sim/sim/contact.h"
@@ -32,6 +33,10 @@ std::shared_ptr<CollisionCache> makeCollisionCache();
 /// margin of each body's travel over the step (depth ≤ 0: a gap that may close).
 void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
                     std::vector<Contact>& out);
+
+/// One line per pair of bodies that overlap by more than `depth` m at the current poses (the
+/// deepest point), naming the bodies and links: reported once, when a World is created.
+std::vector<std::string> overlapWarnings(const Model& model, const Data& data, double depth);
 
 /// Appends the ground-plane contacts of body j alone at its current pose, with a speculative
 /// margin of `margin` m (used after a body has been moved to the instant it lands).

@@ -8,6 +8,7 @@
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "cga_rigid_sim/sim/worker_pool.h"
+#include "contact_detection.h"
 #include "input_admission.h"
 #include "state_edit.h"
 #include "topology.h"
@@ -30,6 +31,9 @@ Result<std::unique_ptr<World>> World::create(scene::Scene scene, const WorldConf
   if (!model) return model.failure();
   auto data = makeData(*model);
   if (!data) return data.failure();
+  // Bodies that start overlapping are said once (doc/contacts.md#energy).
+  for (auto& w : overlapWarnings(*model, *data, 1e-4))
+    model->scene.warnings.push_back(std::move(w));
   std::unique_ptr<World> world(new World());
   const int threads = model->config.threads;
   world->impl_.reset(new Impl{std::move(model.value()), std::move(data.value()), nullptr});

@@ -262,5 +262,23 @@ TEST(Contacts, EnergyNeverRisesInARandomPile) {
               worst_rise, e0, prev);
 }
 
+// Truth: two balls created 2 cm into each other (zero gravity, at rest) are reported once by
+// name, and pushed apart without gaining kinetic energy: after 1 s they no longer overlap
+// (deeper than the 50 µm slop) and the kinetic energy is still zero.
+TEST(Contacts, BodiesStartingToOverlapAreReportedAndSeparatedWithoutEnergy) {
+  auto w =
+      contactWorld(makeScene({ball("a", 1.0, 0.1, {0, 0, 0}), ball("b", 1.0, 0.1, {0.18, 0, 0})}),
+                   0.5, 0.5, 1e-3, false);
+  const auto& warnings = w->scene().warnings;
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("body 'a' (link 'a') and body 'b' (link 'b') overlap by 0.02"),
+            std::string::npos)
+      << warnings[0];
+  w->step(1000);
+  const double gap = (stateNamed(*w, "b").com - stateNamed(*w, "a").com).norm() - 0.2;
+  EXPECT_GE(gap, -6e-5);
+  EXPECT_EQ(momentumOf(*w, "total").kinetic_energy, 0.0);
+}
+
 }  // namespace
 }  // namespace cga_rigid_sim
