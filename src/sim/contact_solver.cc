@@ -24,31 +24,26 @@ Eigen::Vector3d relativeVelocity(const std::vector<SolverBody>& bodies, const Co
   return pointVelocity(bodies, c.a, c.ra) - pointVelocity(bodies, c.b, c.rb);
 }
 
-// The impulse P (world axes) at the contact: +P on a, −P on b.
-void applyImpulse(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
-  if (c.a >= 0) {
-    SolverBody& A = bodies[c.a];
-    A.v += A.inv_mass * P;
-    A.w += A.inv_inertia * c.ra.cross(P);
-  }
-  if (c.b >= 0) {
-    SolverBody& B = bodies[c.b];
-    B.v -= B.inv_mass * P;
-    B.w -= B.inv_inertia * c.rb.cross(P);
+// The impulse P (world axes) at the contact, +P on a and −P on b, added to the velocities
+// (v, w) or, for the position correction, to the pseudo-velocities (pv, pw).
+template <Eigen::Vector3d SolverBody::*V, Eigen::Vector3d SolverBody::*W>
+void applyTo(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
+  for (int side = 0; side < 2; ++side) {
+    const int s = side ? c.b : c.a;
+    if (s < 0) continue;
+    SolverBody& body = bodies[s];
+    const Eigen::Vector3d Ps = side ? Eigen::Vector3d(-P) : P;
+    body.*V += body.inv_mass * Ps;
+    body.*W += body.inv_inertia * (side ? c.rb : c.ra).cross(Ps);
   }
 }
 
+void applyImpulse(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
+  applyTo<&SolverBody::v, &SolverBody::w>(bodies, c, P);
+}
+
 void applyPseudo(std::vector<SolverBody>& bodies, const ContactRow& c, const Eigen::Vector3d& P) {
-  if (c.a >= 0) {
-    SolverBody& A = bodies[c.a];
-    A.pv += A.inv_mass * P;
-    A.pw += A.inv_inertia * c.ra.cross(P);
-  }
-  if (c.b >= 0) {
-    SolverBody& B = bodies[c.b];
-    B.pv -= B.inv_mass * P;
-    B.pw -= B.inv_inertia * c.rb.cross(P);
-  }
+  applyTo<&SolverBody::pv, &SolverBody::pw>(bodies, c, P);
 }
 
 // A tangent basis of the plane ⟂ n (any; the friction cone is circular).

@@ -9,19 +9,24 @@
 namespace cga_rigid_sim {
 namespace testing {
 
-/// Adds a collision shape at B's origin with B's axes (the body's own link), with μ and e
-/// unset unless given.
+/// Adds `shape` at B's origin with B's axes (the body's own link), with μ and e unset unless
+/// given.
+inline scene::BodyModel withShape(scene::BodyModel b, scene::CollisionShape s,
+                                  std::optional<double> mu, std::optional<double> e) {
+  s.name = b.name + "#" + std::to_string(b.shapes.size());
+  s.surface.mu = mu;
+  s.surface.restitution = e;
+  b.shapes.push_back(s);
+  return b;
+}
+
 inline scene::BodyModel withBox(scene::BodyModel b, const Eigen::Vector3d& size,
                                 std::optional<double> mu = std::nullopt,
                                 std::optional<double> e = std::nullopt) {
   scene::CollisionShape s;
   s.kind = scene::CollisionShape::Kind::kBox;
   s.size = size;
-  s.name = b.name + "#" + std::to_string(b.shapes.size());
-  s.surface.mu = mu;
-  s.surface.restitution = e;
-  b.shapes.push_back(s);
-  return b;
+  return withShape(std::move(b), s, mu, e);
 }
 
 inline scene::BodyModel withSphere(scene::BodyModel b, double radius,
@@ -30,11 +35,7 @@ inline scene::BodyModel withSphere(scene::BodyModel b, double radius,
   scene::CollisionShape s;
   s.kind = scene::CollisionShape::Kind::kSphere;
   s.radius = radius;
-  s.name = b.name + "#" + std::to_string(b.shapes.size());
-  s.surface.mu = mu;
-  s.surface.restitution = e;
-  b.shapes.push_back(s);
-  return b;
+  return withShape(std::move(b), s, mu, e);
 }
 
 /// A solid sphere of mass m, radius r at x with velocities (v, w) in world axes (B = world
