@@ -202,7 +202,8 @@ void solveContacts(const Model& model, Data& data) {
 
   SolverSettings settings;
   settings.h = h;
-  settings.rest_speed = 2.0 * model.scene.gravity_W.norm() * h;
+  settings.kick = model.scene.gravity_W.norm() * h;
+  settings.rest_speed = 2.0 * settings.kick;
   settings.bounce_speed = 3.0 * model.scene.gravity_W.norm() * h;
 
   // Landings: a body whose contacts are all gaps to the ground plane that close within the
