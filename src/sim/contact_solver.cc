@@ -103,6 +103,7 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     Eigen::Matrix3d B;
     B << c.n, c.t1, c.t2;
     const Eigen::Matrix3d Kc = B.transpose() * K * B;
+    c.k_n = K * c.n;
     c.k_nn = Kc(0, 0);
     const double tr = Kc(1, 1) + Kc(2, 2), det = Kc(1, 1) * Kc(2, 2) - Kc(1, 2) * Kc(2, 1);
     c.k_t = 0.5 * tr + std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
@@ -165,20 +166,21 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
       }
       for (ContactRow& c : rows) {
         // Normal: the impulse that brings u_n to its target, kept ≥ 0.
-        const double u_n = c.n.dot(relativeVelocity(bodies, c));
-        const double ln = std::max(0.0, c.lambda_n + (c.target - u_n) / c.k_nn);
+        Eigen::Vector3d u = relativeVelocity(bodies, c);
+        const double ln = std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) / c.k_nn);
         const double dn = ln - c.lambda_n;
         c.lambda_n = ln;
-        if (dn != 0.0) applyImpulse(bodies, c, dn * c.n);
+        u += dn * c.k_n;  // the velocity after it, without applying it yet
         // Friction: the impulse that stops the sliding, projected onto the cone's disc.
-        const Eigen::Vector3d u = relativeVelocity(bodies, c);
         const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
         Eigen::Vector2d lt = c.lambda_t - u_t / c.k_t;
         const double tmax = c.mu * c.lambda_n, t = lt.norm();
         if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
         const Eigen::Vector2d dt = lt - c.lambda_t;
         c.lambda_t = lt;
-        if (!dt.isZero(0.0)) applyImpulse(bodies, c, dt.x() * c.t1 + dt.y() * c.t2);
+        // Both at once: one application per contact and sweep.
+        if (dn != 0.0 || !dt.isZero(0.0))
+          applyImpulse(bodies, c, dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
       }
       double change = 0.0;
       for (const SolverBody& b : bodies)

@@ -53,6 +53,8 @@ struct ContactRow {
   int a = -1, b = -1;
   Eigen::Vector3d ra, rb, n, t1, t2;
   double k_nn = 0.0;
+  /// K n: how the relative velocity at the point changes per unit normal impulse (world axes).
+  Eigen::Vector3d k_n = Eigen::Vector3d::Zero();
   /// The tangent block's largest eigenvalue: friction steps by −u_t / k_t, a step along −u_t,
   /// so that a sliding contact's fixed point has λ_t opposite its slip (maximal dissipation);
   /// the full inverse of the block would rotate it.
