@@ -64,6 +64,9 @@ class ReplayTest(unittest.TestCase):
             self.live.pause()
             t_end = self.live.time()
             states_run = {b: state_fields(self.live.get(b)) for b in BODIES}
+            if rospy.get_param('~contacts', False):  # replay_contacts.test: the run had contacts
+                self.assertLess(self.live.get('ball').com.z, 0.1 + 1e-3,
+                                'the ball (radius 0.1 m) has landed on the plane')
             self.assertEqual(self.live.rejected, 0, 'the run refused an input')
         finally:
             recorder.stop()
