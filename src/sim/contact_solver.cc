@@ -126,10 +126,9 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
   SolveStats stats;
   // The velocities before any contact impulse: the warm start is applied after the targets
   // are read from them.
-  std::vector<Eigen::Vector3d> v0(bodies.size()), w0(bodies.size());
-  for (std::size_t s = 0; s < bodies.size(); ++s) {
-    v0[s] = bodies[s].v;
-    w0[s] = bodies[s].w;
+  for (SolverBody& b : bodies) {
+    b.v_start = b.v;
+    b.w_start = b.w;
   }
   stats.kinetic_before = kineticEnergy(bodies);
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick;
@@ -142,9 +141,9 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
-      for (std::size_t s = 0; s < bodies.size(); ++s) {
-        bodies[s].v = v0[s];
-        bodies[s].w = w0[s];
+      for (SolverBody& b : bodies) {
+        b.v = b.v_start;
+        b.w = b.w_start;
       }
       for (ContactRow& c : rows) {
         c.lambda_n = 0.0;

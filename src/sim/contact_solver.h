@@ -42,6 +42,9 @@ struct SolverBody {
   /// The longest lever arm of its contacts, m: a change of w moves a contact point by up to
   /// reach·|Δw|.
   double reach = 0.0;
+  // The velocities before any contact impulse (the energy guard starts again from them).
+  Eigen::Vector3d v_start = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_start = Eigen::Vector3d::Zero();
   // The (pseudo-)velocities before the current sweep, for the convergence test.
   Eigen::Vector3d v_sweep = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_sweep = Eigen::Vector3d::Zero();
