@@ -131,12 +131,15 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
     b.w_start = b.w;
   }
   stats.kinetic_before = kineticEnergy(bodies);
-  const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick;
   for (SolverBody& b : bodies) b.reach = 0.0;
   for (const ContactRow& c : rows) {
     if (c.a >= 0) bodies[c.a].reach = std::max(bodies[c.a].reach, c.ra.norm());
     if (c.b >= 0) bodies[c.b].reach = std::max(bodies[c.b].reach, c.rb.norm());
   }
+  double speed = 0.0;  // the fastest contact point's speed before the impulses
+  for (const SolverBody& b : bodies) speed = std::max(speed, b.v.norm() + b.reach * b.w.norm());
+  const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
+                           st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
 
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;

@@ -93,6 +93,9 @@ struct SolverSettings {
   /// … plus this fraction of the step's kick g h: a column of boxes keeps a slow Gauss–Seidel
   /// mode alive at ~1e-12 m/s (it moves the top box by 1e-11 m in 10 s).
   double tolerance_of_kick = 1e-10;
+  /// … plus this fraction of the fastest contact point's speed beyond twice the kick: 1e-9
+  /// relative accuracy while bodies move fast (a falling pile), nothing added once they rest.
+  double tolerance_of_speed = 1e-9;
 };
 
 struct SolveStats {
