@@ -121,6 +121,10 @@ class CgaContactSim : public ::bench::contacts::ContactSim {
     world_ = std::move(w.value());
   }
   void step(long n) override { world_->step(static_cast<std::uint64_t>(n)); }
+  // Read after the error run only (never in a timed run): the size of the problem at the end.
+  std::string events() override {
+    return "contacts in the last step " + std::to_string(world_->contacts().size());
+  }
   // bodyStates(): the moving bodies in scene order = the order of ContactCase::bodies.
   void observe(std::vector<BodyObs>* out) override {
     const std::vector<sim::BodyStateReport> states = world_->bodyStates();
@@ -145,18 +149,19 @@ int main(int argc, char** argv) {
   using cga_rigid_sim::benchmark::CgaContactSim;
   // One config per integrator; without --configs only `auto` runs (the default integrator).
   bool configs_given = false;
-  for (int i = 1; i < argc; ++i) configs_given = configs_given || std::strcmp(argv[i], "--configs") == 0;
+  for (int i = 1; i < argc; ++i)
+    configs_given = configs_given || std::strcmp(argv[i], "--configs") == 0;
   std::vector<bench::contacts::ContactConfig> configs;
   for (const std::string& name : cga_rigid_sim::dynamics::integratorNames()) {
     if (!configs_given && name != "auto") continue;
     configs.push_back({name,
-                       [name](const bench::contacts::ContactCase& c, double h)
-                           -> std::unique_ptr<bench::contacts::ContactSim> {
+                       [name](const bench::contacts::ContactCase& c,
+                              double h) -> std::unique_ptr<bench::contacts::ContactSim> {
                          return std::make_unique<CgaContactSim>(c, h, name);
                        },
                        {},
                        ""});
   }
-  return bench::contacts::runContactSweep("cga_rigid_sim", "cga_rigid_sim (this build)", configs, argc,
-                                          argv);
+  return bench::contacts::runContactSweep("cga_rigid_sim", "cga_rigid_sim (this build)", configs,
+                                          argc, argv);
 }
