@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <sstream>
@@ -29,9 +30,10 @@ using sweep::selected;
 using sweep::splitList;
 using sweep::threadCpuSeconds;
 
-void usage(const std::string& engine) {
+void usage(const char* program, const std::string& engine) {
+  const char* slash = std::strrchr(program, '/');
   std::printf(
-      "usage: peer_contacts_%s [options]\n"
+      "usage: %s [options]\n"
       "  --out DIR       output directory (default %s)\n"
       "  --csv PATH      CSV file (default DIR/contacts_%s.csv)\n"
       "  --cases a,b     only these cases (bounce, incline_stick, incline_slide, slide_stop,\n"
@@ -43,7 +45,7 @@ void usage(const std::string& engine) {
       "  --reps R        timing repetitions, median reported (default 3)\n"
       "  --list          list configs and exit\n"
       "  --version       print engine version and exit\n",
-      engine.c_str(), BENCH_OUT_DIR, engine.c_str());
+      slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str());
 }
 
 std::string csvSafe(std::string s) {
@@ -84,7 +86,7 @@ int runContactSweep(const std::string& engine, const std::string& version, const
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
       if (i + 1 >= argc) {
-        usage(engine);
+        usage(argv[0], engine);
         std::exit(2);
       }
       return argv[++i];
@@ -108,7 +110,7 @@ int runContactSweep(const std::string& engine, const std::string& version, const
       std::printf("%s %s\n", engine.c_str(), version.c_str());
       return 0;
     } else {
-      usage(engine);
+      usage(argv[0], engine);
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }

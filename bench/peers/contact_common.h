@@ -1,4 +1,5 @@
-// Shared driver of the contact peer runners (peer_contacts_<engine>): the
+// Shared driver of the contact runners (peer_contacts_<engine>, and our
+// bench_contacts, which compiles it in without any peer engine): the
 // sweep over contact cases x configs x step sizes, timing, error evaluation
 // (bench/cases/contact_cases.h) and the CSV writer.
 //
