@@ -107,6 +107,7 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     c.k_nn = Kc(0, 0);
     const double tr = Kc(1, 1) + Kc(2, 2), det = Kc(1, 1) * Kc(2, 2) - Kc(1, 2) * Kc(2, 1);
     c.k_t = 0.5 * tr + std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    c.k_tt_inv << Kc(2, 2) / det, -Kc(1, 2) / det, -Kc(2, 1) / det, Kc(1, 1) / det;
     c.mu = ct.mu;
     c.restitution = ct.restitution;
     c.depth = ct.depth;
@@ -175,9 +176,13 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
         u += dn * c.k_n;  // the velocity after it, without applying it yet
         // Friction: the impulse that stops the sliding, projected onto the cone's disc.
         const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
-        Eigen::Vector2d lt = c.lambda_t - u_t / c.k_t;
-        const double tmax = c.mu * c.lambda_n, t = lt.norm();
-        if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
+        const double tmax = c.mu * c.lambda_n;
+        Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
+        if (lt.norm() > tmax) {                              // slides
+          lt = c.lambda_t - u_t / c.k_t;
+          const double t = lt.norm();
+          if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
+        }
         const Eigen::Vector2d dt = lt - c.lambda_t;
         c.lambda_t = lt;
         // Both at once: one application per contact and sweep.

@@ -58,9 +58,12 @@ struct ContactRow {
   double k_nn = 0.0;
   /// K n: how the relative velocity at the point changes per unit normal impulse (world axes).
   Eigen::Vector3d k_n = Eigen::Vector3d::Zero();
-  /// The tangent block's largest eigenvalue: friction steps by −u_t / k_t, a step along −u_t,
-  /// so that a sliding contact's fixed point has λ_t opposite its slip (maximal dissipation);
-  /// the full inverse of the block would rotate it.
+  /// The tangent block's inverse: a contact that can stick takes the impulse that stops its
+  /// slip exactly (fast convergence under a face's four corners).
+  Eigen::Matrix2d k_tt_inv = Eigen::Matrix2d::Zero();
+  /// The tangent block's largest eigenvalue: a contact that slides steps by −u_t / k_t, along
+  /// −u_t, and is projected onto the cone, so its fixed point has λ_t opposite its slip
+  /// (maximal dissipation); projecting the exact step would turn it.
   double k_t = 0.0;
   double depth = 0.0;   ///< penetration, m (≤ 0: a gap)
   double target = 0.0;  ///< the lower bound of u_n after the step, m/s

@@ -152,6 +152,7 @@ void solveContacts(const Model& model, Data& data) {
   if (!data.contact_scratch) data.contact_scratch = std::make_shared<ContactScratch>();
   ContactScratch& S = *data.contact_scratch;
   S.found.clear();
+  data.contact_sweeps = 0;
   detectContacts(model, data, *S.cache, S.found);
   if (S.found.empty()) {
     data.contacts.clear();
@@ -268,7 +269,7 @@ void solveContacts(const Model& model, Data& data) {
     }
   }
 
-  solveVelocities(settings, S.bodies, S.rows);
+  data.contact_sweeps = solveVelocities(settings, S.bodies, S.rows).iterations;
   solvePositions(settings, S.bodies, S.rows);
 
   // The impulses act on the states as CGA impulses: ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,

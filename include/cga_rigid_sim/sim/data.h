@@ -70,6 +70,8 @@ struct Data {
 
   /// The contacts of the last step, with their impulses (stage_contacts.cc).
   std::vector<Contact> contacts;
+  /// Gauss–Seidel sweeps the last step's contact solve took (0: no contact), for benchmarks.
+  int contact_sweeps = 0;
   /// J taken out by contacts since the start or the last reset (MomentumReport).
   double dissipated_energy = 0.0;
   std::shared_ptr<ContactScratch> contact_scratch;  ///< made by the first contacts stage
