@@ -12,7 +12,8 @@ namespace testing {
 /// Adds `shape` at B's origin with B's axes (the body's own link), with μ and e unset unless
 /// given.
 inline scene::BodyModel withShape(scene::BodyModel b, scene::CollisionShape s,
-                                  std::optional<double> mu, std::optional<double> e) {
+                                  std::optional<double> mu = std::nullopt,
+                                  std::optional<double> e = std::nullopt) {
   s.name = b.name + "#" + std::to_string(b.shapes.size());
   s.surface.mu = mu;
   s.surface.restitution = e;
@@ -20,22 +21,20 @@ inline scene::BodyModel withShape(scene::BodyModel b, scene::CollisionShape s,
   return b;
 }
 
-inline scene::BodyModel withBox(scene::BodyModel b, const Eigen::Vector3d& size,
-                                std::optional<double> mu = std::nullopt,
-                                std::optional<double> e = std::nullopt) {
+/// A box of edges `size` centred on its frame.
+inline scene::CollisionShape boxShape(const Eigen::Vector3d& size) {
   scene::CollisionShape s;
   s.kind = scene::CollisionShape::Kind::kBox;
   s.size = size;
-  return withShape(std::move(b), s, mu, e);
+  return s;
 }
 
-inline scene::BodyModel withSphere(scene::BodyModel b, double radius,
-                                   std::optional<double> mu = std::nullopt,
-                                   std::optional<double> e = std::nullopt) {
+/// A sphere of radius `radius` centred on its frame.
+inline scene::CollisionShape sphereShape(double radius) {
   scene::CollisionShape s;
   s.kind = scene::CollisionShape::Kind::kSphere;
   s.radius = radius;
-  return withShape(std::move(b), s, mu, e);
+  return s;
 }
 
 /// A solid sphere of mass m, radius r at x with velocities (v, w) in world axes (B = world
@@ -44,7 +43,8 @@ inline scene::BodyModel ball(const std::string& name, double m, double r, const 
                              const Eigen::Vector3d& v = {0, 0, 0},
                              const Eigen::Vector3d& w = {0, 0, 0}) {
   const double J = 0.4 * m * r * r;
-  return withSphere(movingBody(name, m, {J, J, J}, Eigen::Quaterniond::Identity(), x, w, v), r);
+  return withShape(movingBody(name, m, {J, J, J}, Eigen::Quaterniond::Identity(), x, w, v),
+                   sphereShape(r));
 }
 
 /// A solid box of mass m and edges `size` at x, axes along the world's.
@@ -54,7 +54,8 @@ inline scene::BodyModel block(const std::string& name, double m, const Eigen::Ve
   const Eigen::Vector3d s2 = size.cwiseProduct(size);
   const Eigen::Vector3d J =
       (m / 12.0) * Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y());
-  return withBox(movingBody(name, m, J, R, x, Eigen::Vector3d::Zero(), R.conjugate() * v), size);
+  return withShape(movingBody(name, m, J, R, x, Eigen::Vector3d::Zero(), R.conjugate() * v),
+                   boxShape(size));
 }
 
 /// A world with a ground plane at z = 0 with (μ, e), default surfaces (μ0, e0).
