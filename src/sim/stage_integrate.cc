@@ -33,9 +33,13 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
       if (!rest) b.integrator->step(model.moving[i].inertia, kNoLoads, lambda, h, b.state);
       b.integrator->reset();  // its caches hold the drift, not the body's loaded path
-      if (!b.contact_shift_W.isZero(0.0)) {
-        b.state.M_WB = cga::Motor::fromPose(
-            b.state.M_WB.rotation(), b.state.M_WB.translation(lambda) + b.contact_shift_W, lambda);
+      // The motor is rebuilt unit: a body in contact drifts from a fresh anchor every step, so
+      // a rotor's norm error would compound from step to step (and scale its velocity, which
+      // the next step carries through R and R̃).
+      if (!rest || !b.contact_shift_W.isZero(0.0)) {
+        b.state.M_WB =
+            cga::Motor::fromPose(b.state.M_WB.rotation().normalized(),
+                                 b.state.M_WB.translation(lambda) + b.contact_shift_W, lambda);
         b.contact_shift_W.setZero();
         b.last_path = StepPath::kStepped;
       }
