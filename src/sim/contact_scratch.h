@@ -7,6 +7,8 @@
 
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/moment.h"
+#include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/sim/model.h"
 #include "contact_detection.h"
 #include "contact_solver.h"
 
@@ -33,6 +35,11 @@ struct ContactScratch {
   std::vector<int> land_slot_a, land_slot_b;
   std::vector<ContactRow> land_rows;
 };
+
+/// Moving body i as the solver sees it: state s with body bivelocity omega_B, world axes
+/// (stage_contacts.cc).
+SolverBody solverBody(const Model& model, const dynamics::BodyState& s,
+                      const cga::Bivelocity& omega_B, int i);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim
