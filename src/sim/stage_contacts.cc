@@ -108,10 +108,23 @@ void solveContacts(const Model& model, Data& data) {
   for (std::size_t k = 0; k < S.found.size(); ++k) {
     const Contact& c = S.found[k];
     if (c.depth < -kTouching) {
+      // Closing over the step at the mean of the velocities before and after the kick (exact
+      // under a constant acceleration): the kicked velocity alone would close gaps that a free
+      // flight does not reach this step, and a bounce there would start above the surface.
       const int a = S.slot_a[k], b = S.slot_b[k];
-      Eigen::Vector3d u = S.bodies[a].v + S.bodies[a].w.cross(c.point_W - S.bodies[a].x);
-      if (b >= 0) u -= S.bodies[b].v + S.bodies[b].w.cross(c.point_W - S.bodies[b].x);
-      if (c.normal_W.dot(u) * h >= c.depth) continue;
+      const auto pointVelocity = [&](int slot, const cga::Bivelocity& omega_B) {
+        const dynamics::BodyState& st = data.bodies[S.moving_of_slot[slot]].state;
+        const Eigen::Quaterniond& R = st.M_WB.rotation();
+        return Eigen::Vector3d(
+            R * (omega_B.linear(lambda) +
+                 omega_B.angular().cross(R.conjugate() * (c.point_W - S.bodies[slot].x))));
+      };
+      Eigen::Vector3d u = pointVelocity(a, data.bodies[S.moving_of_slot[a]].state.omega_B) +
+                          pointVelocity(a, S.kicked_B[a]);
+      if (b >= 0)
+        u -= pointVelocity(b, data.bodies[S.moving_of_slot[b]].state.omega_B) +
+             pointVelocity(b, S.kicked_B[b]);
+      if (0.5 * c.normal_W.dot(u) * h >= c.depth) continue;
     }
     S.found[kept] = S.found[k];
     S.slot_a[kept] = S.slot_a[k];

@@ -65,7 +65,7 @@ TEST(LinkPose, ExampleScenesExist) {
   std::vector<std::string> names;
   for (const auto& f : exampleScenes()) names.push_back(f.stem().string());
   for (const char* expected : {"tennis_racket", "symmetric_top", "thin_rod", "dumbbell",
-                               "projectile", "t_handle", "many_bodies"})
+                               "projectile", "t_handle", "many_bodies", "tabletop"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
 }
 
