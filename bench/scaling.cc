@@ -34,6 +34,7 @@
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/world.h"
+#include "peers/sweep_util.h"
 
 namespace cga_rigid_sim {
 namespace benchmark {
@@ -139,14 +140,7 @@ class BareLoop {
   std::vector<std::unique_ptr<dynamics::Integrator>> integrator_;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ','))
-    if (!tok.empty()) out.push_back(tok);
-  return out;
-}
+using bench::sweep::splitList;  // "a,b,c" → {a, b, c} (peers/sweep_util.h)
 
 struct Timing {
   double wall_ns = 0;  // median over the repetitions

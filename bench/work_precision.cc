@@ -41,6 +41,7 @@
 #include "case_setup.h"
 #include "cases.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
+#include "peers/sweep_util.h"
 #include "reference_solution.h"
 
 namespace cga_rigid_sim {
@@ -52,14 +53,7 @@ const char* const kHeader =
     "engine,config,case,h,ns_per_step,err_orientation_rad,err_com_m,err_energy_rel,err_L_rel,"
     "blew_up";
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ','))
-    if (!tok.empty()) out.push_back(tok);
-  return out;
-}
+using bench::sweep::splitList;  // "a,b,c" → {a, b, c} (peers/sweep_util.h)
 
 bool selected(const std::vector<std::string>& filter, const std::string& name) {
   return filter.empty() || std::find(filter.begin(), filter.end(), name) != filter.end();

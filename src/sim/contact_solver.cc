@@ -80,7 +80,7 @@ void setTargets(const SolverSettings& st, const std::vector<SolverBody>& bodies,
 
 void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverBody>& bodies,
                  const std::vector<int>& slot_a, const std::vector<int>& slot_b,
-                 const SolverSettings&, std::vector<ContactRow>& rows) {
+                 std::vector<ContactRow>& rows) {
   rows.resize(contacts.size());
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& ct = contacts[k];
@@ -204,7 +204,6 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
     // The energy guard: restitution in several simultaneous impacts can add energy; e = 0
     // cannot (doc/contacts.md#energy).
     if (!any_bounce || stats.kinetic_after <= stats.kinetic_before * (1 + 1e-12) + 1e-300) break;
-    stats.restitution_dropped = true;
   }
   return stats;
 }

@@ -103,14 +103,13 @@ struct SolverSettings {
 
 struct SolveStats {
   int iterations = 0;
-  bool restitution_dropped = false;  ///< the energy guard redid the solve with e = 0
   double kinetic_before = 0.0, kinetic_after = 0.0;
 };
 
 /// Fills the rows' geometry (arms, basis, K, targets) from the contacts and the bodies.
 void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverBody>& bodies,
                  const std::vector<int>& slot_a, const std::vector<int>& slot_b,
-                 const SolverSettings& settings, std::vector<ContactRow>& rows);
+                 std::vector<ContactRow>& rows);
 /// Solves the velocity impulses (rows' lambda_n, lambda_t hold the warm start on entry) and
 /// leaves the bodies' v, w at their values after the impulses.
 SolveStats solveVelocities(const SolverSettings& settings, std::vector<SolverBody>& bodies,

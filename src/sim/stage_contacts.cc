@@ -188,7 +188,7 @@ void solveContacts(const Model& model, Data& data) {
     data.contacts.assign(S.landed.begin(), S.landed.end());
     return;
   }
-  prepareRows(S.found, S.bodies, S.slot_a, S.slot_b, settings, S.rows);
+  prepareRows(S.found, S.bodies, S.slot_a, S.slot_b, S.rows);
 
   // Warm start from last step's impulses of the same contacts.
   S.previous.resize(data.contacts.size());
