@@ -14,6 +14,24 @@ int Scene::findBody(const std::string& name) const {
   return -1;
 }
 
+int Scene::findJoint(const std::string& name) const {
+  for (std::size_t k = 0; k < joints.size(); ++k)
+    if (joints[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
+const char* toString(JointType t) {
+  switch (t) {
+    case JointType::kRevolute:
+      return "revolute";
+    case JointType::kContinuous:
+      return "continuous";
+    case JointType::kPrismatic:
+      return "prismatic";
+  }
+  return "?";
+}
+
 int Scene::findLink(const std::string& link, int* link_index) const {
   for (std::size_t k = 0; k < bodies.size(); ++k)
     for (std::size_t i = 0; i < bodies[k].links.size(); ++i)

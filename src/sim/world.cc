@@ -112,6 +112,15 @@ std::uint64_t World::topologyVersion() const { return impl_->model.topology_vers
 std::size_t World::activeWrenchCount() const { return impl_->data.active.size(); }
 std::size_t World::queuedInputCount() const { return impl_->data.queue.size(); }
 
+// Articulated trees: placeholders until the tree stage lands (doc/articulated.md).
+Result<bool> World::setJointEfforts(const JointEffortInput&) {
+  return Error{"joint_efforts", "name", "articulated joints are not simulated yet"};
+}
+Result<bool> World::applyJointEffort(const TimedJointEffortInput&) {
+  return Error{"apply_joint_effort", "joint", "articulated joints are not simulated yet"};
+}
+std::vector<JointStateReport> World::jointStates() const { return {}; }
+
 std::vector<MomentumReport> World::momentum() const {
   return momentumReports(impl_->model, impl_->data);
 }

@@ -18,6 +18,7 @@
 #include "cga_rigid_sim/cga/motor.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
+#include "cga_rigid_sim/scene/joint.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -47,8 +48,15 @@ struct Scene {
   double lambda = 1.0;
   Eigen::Vector3d gravity_W{0.0, 0.0, -9.81};
   std::vector<BodyModel> bodies;
+  /// The revolute, continuous and prismatic joints (joint.h), parent first: a joint's parent
+  /// body is the world, a static body, a free root, or the child of an earlier joint. A child
+  /// body's M_WB0 is its pose at the joints' initial positions; its omega_B0 is left zero (the
+  /// World derives link velocities from the joint velocities).
+  std::vector<JointModel> joints;
   std::vector<std::string> warnings;  ///< e.g. relaxed triangle inequality
 
+  /// Index of the joint with that name, or -1.
+  int findJoint(const std::string& name) const;
   /// Index of the body with that name, or -1.
   int findBody(const std::string& name) const;
   /// Index of the body that owns the link, or -1; `link_index` gets its place in links.

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "cga_rigid_sim/cga/force.h"
 
@@ -39,6 +40,28 @@ struct ImpulseInput {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< m, in `frame`
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();  ///< N m s, in `frame`
   double start_time = 0.0;                            ///< 0 = the next step
+};
+
+/// Efforts for joints by name (the node's ~joint_efforts, sensor_msgs/JointState), taking effect
+/// at the step of `stamp` (0 = the next step) and each held until the next command for that
+/// joint, as an effort controller does. Each effort is clamped to the joint's <limit effort>
+/// when applied (counted in JointStateReport::clamped_steps). Refused as a whole, nothing
+/// applied, for: names and efforts of different lengths, an unknown joint, a duplicate name,
+/// an effort that is not finite, a stamp already past. Error messages call the fields
+/// joint_efforts.{name, effort, stamp} ("joint_efforts.effort[2]: not finite (nan)").
+struct JointEffortInput {
+  std::vector<std::string> names;
+  std::vector<double> efforts;  ///< N m (revolute, continuous) or N (prismatic)
+  double stamp = 0.0;           ///< sim time, s; 0 = the next step
+};
+/// An effort added to one joint for a time (the node's ~apply_joint_effort service), on top of
+/// the held effort; the sum is clamped. Fields apply_joint_effort.{joint, effort, start_time,
+/// duration}; the duration rules of WrenchInput (0 = one step, < 0 = until cleared).
+struct TimedJointEffortInput {
+  std::string joint;
+  double effort = 0.0;
+  double start_time = 0.0;
+  double duration = 0.0;
 };
 
 }  // namespace sim

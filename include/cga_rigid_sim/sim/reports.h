@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,10 +36,10 @@ struct MomentumReport {
 struct ContactReport {
   std::string body_a, link_a;  ///< the moving body and the link whose collision touches
   std::string body_b, link_b;  ///< the other one
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< m, world
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, from b towards a
-  double depth = 0.0;                                 ///< m, penetration (≤ 0: a gap)
-  double normal_impulse = 0.0;                        ///< N s on a along normal
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();             ///< m, world
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();           ///< unit, from b towards a
+  double depth = 0.0;                                          ///< m, penetration (≤ 0: a gap)
+  double normal_impulse = 0.0;                                 ///< N s on a along normal
   Eigen::Vector3d friction_impulse = Eigen::Vector3d::Zero();  ///< N s on a, world
 };
 
@@ -50,6 +51,18 @@ struct BodyStateReport {
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();    ///< of the CoM, world axes
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();   ///< world axes
   dynamics::BodyState state;  ///< motor M_WB and bivelocity Ω_B (blade coefficients)
+};
+
+/// One joint of an articulated tree as users see it (the node's /joint_states).
+struct JointStateReport {
+  std::string name;
+  double position = 0.0;  ///< rad or m
+  double velocity = 0.0;  ///< rad/s or m/s
+  /// The effort the joint's actuator applied in the last step (held + timed, clamped to
+  /// <limit effort>), N m or N; damping, friction and limit forces are not in it.
+  double effort = 0.0;
+  /// Steps in which the commanded effort exceeded <limit effort> and was clamped.
+  std::uint64_t clamped_steps = 0;
 };
 
 /// A frame to publish: `child` (a link) relative to `parent` (world frame or a root link).

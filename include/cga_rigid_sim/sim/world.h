@@ -132,6 +132,14 @@ class World {
   /// an unknown name. Bumps topologyVersion().
   Result<bool> deleteBody(const std::string& body);
 
+  /// Articulated trees (doc/articulated.md). Joint names are the URDF's.
+  /// Validates and queues held efforts (JointEffortInput: the rules there).
+  Result<bool> setJointEfforts(const JointEffortInput& in);
+  /// Validates and queues a timed effort on one joint.
+  Result<bool> applyJointEffort(const TimedJointEffortInput& in);
+  /// Every joint of every tree, in scene order (parent first).
+  std::vector<JointStateReport> jointStates() const;
+
   /// Per moving body (scene order), then the scene total named "total" (see MomentumReport).
   std::vector<MomentumReport> momentum() const;
   /// Every moving body.
