@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/scene/initial_state.h"
+#include "cga_rigid_sim/scene/scene_summary.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
 namespace cga_rigid_sim {
@@ -602,6 +603,24 @@ TEST(Joints, AKeyNamingAFreeBodyAndAJointIsRefused) {
   // 'arm' is a body moved by a joint and the name of another joint: the joint's key.
   ASSERT_TRUE(applyInitialState(s, Map{{"arm", Map{{"position", 1.0}}}}).ok());
   EXPECT_EQ(s.joints.at(s.findJoint("arm")).initial_position, 1.0);
+}
+
+TEST(Joints, SummaryListsTheJoints) {
+  const Scene s = load(kDoublePendulum, jointState("shoulder", 0.25));
+  const std::string text = sceneSummary(s, "auto");
+  EXPECT_TRUE(contains(text, "2 bodies (2 moving, 0 static), 2 joints, integrator 'auto'")) << text;
+  EXPECT_TRUE(contains(text, "path articulated (moved by joint shoulder)")) << text;
+  EXPECT_TRUE(contains(text,
+                       "joints:\n  shoulder: revolute, world -> upper, axis (0.333333, "
+                       "0.666667, 0.666667), position in [-3, 3] rad, |effort| <= 50 N m, "
+                       "|velocity| <= 4 rad/s, damping 0.05 N m s/rad, friction 0.1 N m, "
+                       "q0 = 0.25 rad\n"))
+      << text;
+  EXPECT_TRUE(contains(text,
+                       "  elbow: continuous, upper -> lower, axis (0, 0.707107, 0.707107), "
+                       "no position limits\n"))
+      << text;
+  EXPECT_TRUE(contains(text, "paths: articulated x2;")) << text;
 }
 
 // A floating joint below an articulated joint still starts a free body, at the joint chain
