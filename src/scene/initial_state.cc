@@ -179,9 +179,8 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
         it != index.end() && !scene.bodies[it->second].is_static && moved_by[it->second] < 0;
     if (jt != joint_index.end() && body_takes_state)
       return Error{where + ": " + inQuotes(name) +
-                   " names both a free body and a joint; rename "
-                   "one of them in the URDF (link and joint names are separate in URDF, the "
-                   "keys of initial_state are not)"};
+                   " names both a free body and a joint; rename one of them in the URDF (link "
+                   "and joint names are separate in URDF, the keys of initial_state are not)"};
     if (jt != joint_index.end()) {
       const JointModel& j = scene.joints[jt->second];
       JointUpdate u{jt->second, j.initial_position, j.initial_velocity};
