@@ -202,9 +202,10 @@ TEST_P(RandomTree, MomentumRateIsGradientPlusForces) {
     const double d = 1e-5;
     const VectorXd rate = (momentum_at(d) - momentum_at(-d)) / (2 * d);
     // Second-order difference of smooth functions of size O(10): truncation ≈ 1e-9.
-    if (tree.jointCount() > 0)
+    if (tree.jointCount() > 0) {
       EXPECT_LT((rate.tail(tree.jointCount()) - grad - tau).cwiseAbs().maxCoeff(),
                 1e-6 * (1 + rate.norm()));
+    }
     if (tree.floating()) {
       // Total gravity wrench about the world origin: Σ (x_b × m_b g, λ m_b g).
       cga::Moment W;
