@@ -16,11 +16,18 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
                                 const BodyMoments& f_ext) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
-  std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> IA(n + 1, Matrix6d::Zero());
-  std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> pA(n + 1, Vector6d::Zero()), c(n + 1),
-      U(n + 1), X_rows;
-  std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> X(n + 1);  // motion parent → b
-  std::vector<double> D(n + 1), u(n + 1);
+  // Scratch (no allocation once grown). X[b]: motion from b's parent's frame to b's.
+  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> IA, X;
+  static thread_local std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> pA, c, U, a;
+  static thread_local std::vector<double> D, u;
+  IA.assign(n + 1, Matrix6d::Zero());
+  pA.assign(n + 1, Vector6d::Zero());
+  a.assign(n + 1, Vector6d::Zero());
+  X.resize(n + 1);
+  c.resize(n + 1);
+  U.resize(n + 1);
+  D.resize(n + 1);
+  u.resize(n + 1);
   // Pass 1: rigid-body inertias, bias moments −(Ω × I(Ω)) − f_ext, velocity-product terms.
   for (int b = tree.floating() ? 0 : 1; b <= n; ++b) {
     const Inertia& I = tree.inertiaOf(b);
@@ -47,7 +54,6 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
   }
   // Pass 3: accelerations outward.
   Eigen::VectorXd nu_dot(tree.velocityCount());
-  std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> a(n + 1, Vector6d::Zero());
   if (tree.floating()) {
     a[0] = -IA[0].ldlt().solve(pA[0]);
     nu_dot.head<6>() = a[0];

@@ -30,6 +30,11 @@ class JointRows {
   /// (llt: M at the new pose). Returns whether anything was held.
   bool stopHeld(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
                 Eigen::VectorXd& nu) const;
+  /// The impulses of the last solve as a vector over ν (zero where no row acts).
+  void impulses(Eigen::VectorXd& y) const {
+    y.setZero();
+    for (const Row& r : rows_) y[r.index] += r.y;
+  }
   /// Joints held in the last solve (velocity indices).
   const std::vector<int>& held() const { return held_; }
 

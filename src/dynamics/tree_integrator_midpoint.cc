@@ -23,6 +23,8 @@ namespace dynamics {
 
 namespace {
 
+// The iteration is a simplified Newton method: its matrix is M + ½hC at the step's start, its
+// residual is evaluated at the midpoint with the O(n) momentum recursion.
 // Iterations stop when ν̄ changes by less than this (relative to 1 + |ν̄|∞), or stops
 // shrinking: the round-off floor of the solve is a few ulps of |ν̄|.
 constexpr double kTolerance = 4e-15;
@@ -54,79 +56,125 @@ class Midpoint final : public TreeIntegrator {
            s.omega_0.trans == last_.omega_0.trans;
   }
 
+  // M at the pose of `kin`, factored twice: alone (velocities from momenta) and with ½hC (the
+  // preconditioner of the next step's iteration and the metric of its joint rows).
+  void factor(const ArticulatedBody& tree, double h) {
+    massMatrix(tree, kin_, M_);
+    llt_.compute(M_);
+    Md_ = M_;
+    for (int k = 0; k < tree.jointCount(); ++k)
+      Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
+    llt_damped_.compute(Md_);
+    factored_h_ = h;
+  }
+
   void substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
     const int n = tree.jointCount(), nv = tree.velocityCount();
     const double lambda = tree.lambda();
     const bool fresh = sameAsCached(state);
     if (!fresh) {  // momenta of a state set from outside
       treeKinematics(tree, state, kin_);
-      const Eigen::VectorXd pm =
-          momentumAndGradient(tree, kin_, BodyMoments(tree.bodyCount()), nullptr);
-      p_ = pm.tail(n);
-      if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm.head<6>()), lambda);
+      momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
+      p_ = pm_.tail(n);
+      if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
-    const Eigen::VectorXd nu0 = velocityVector(tree, state);
-    // Start from the extrapolated midpoint velocity when the last step had the same h.
-    Eigen::VectorXd nu_bar = (fresh && h == last_h_) ? guess_ : nu0;
-    TreeState mid = state;
-    Eigen::VectorXd grad, rhs(nv), nu_new;
+    if (!fresh || factored_h_ != h) {
+      treeKinematics(tree, state, kin_);
+      factor(tree, h);
+    }
+    // Start from the extrapolated midpoint velocity when the last step had the same h, and take
+    // the iteration matrix at the midpoint that guess predicts: the simplified Newton method
+    // then contracts by O(h) per iteration instead of by the change of M over half a step.
+    nu_bar_ = (fresh && h == last_h_) ? guess_ : velocityVector(tree, state);
+    if (fresh && h == last_h_ && n > 0) {
+      mid_ = state;
+      mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
+      treeKinematics(tree, mid_, kin_);
+      factor(tree, h);
+    }
+    y_.setZero(nv);
+    r_.resize(nv);
+    mid_ = state;
     cga::Moment W;
     double last_change = INFINITY;
+    // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
+    // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
-      mid.q = state.q + (0.5 * h) * nu_bar.tail(n);
-      setVelocityVector(tree, nu_bar, mid);
+      mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
+      setVelocityVector(tree, nu_bar_, mid_);
       if (tree.floating())
-        mid.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar.head<6>()) * (-0.25 * h));
-      treeKinematics(tree, mid, kin_);
+        mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
+      treeKinematics(tree, mid_, kin_);
       externalMoments(tree, kin_, loads, f_ext_);
-      momentumAndGradient(tree, kin_, f_ext_, &grad);
-      massMatrix(tree, kin_, M_);
-      rhs.tail(n) = p_ + (0.5 * h) * (grad + loads.effort);
+      momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+      r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+      for (int k = 0; k < n; ++k)
+        r_[tree.velocityIndex(k)] -=
+            0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
       if (tree.floating()) {
         W = cga::Moment();
         for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
-        rhs.head<6>() = tree_math::vec(mid.M_W0.reverse().apply(Pi_ + W * (0.5 * h), lambda));
+        r_.head<6>() =
+            tree_math::vec(mid_.M_W0.reverse().apply(Pi_ + W * (0.5 * h), lambda)) - pm_.head<6>();
       }
-      for (int k = 0; k < n; ++k)
-        M_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
-      llt_.compute(M_);
-      nu_new = llt_.solve(rhs);
-      rows_.solve(tree, llt_, state.q, h, nu_new);
-      for (int k = 0; k < n; ++k)  // M(q̄) alone below, without the damping term
-        M_(tree.velocityIndex(k), tree.velocityIndex(k)) -= 0.5 * h * tree.joints()[k].damping;
-      const double change = (nu_new - nu_bar).cwiseAbs().maxCoeff();
-      const double scale = 1.0 + nu_new.cwiseAbs().maxCoeff();
-      nu_bar = nu_new;
-      if (nv == 0 || change <= kTolerance * scale || (it > 2 && change >= last_change)) break;
+      // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
+      // rows then add the impulses anew.
+      nu_new_ = nu_bar_ + llt_damped_.solve(r_);
+      rows_.solve(tree, llt_damped_, state.q, h, nu_new_);
+      rows_.impulses(y_);
+      const double change = nv == 0 ? 0.0 : (nu_new_ - nu_bar_).cwiseAbs().maxCoeff();
+      const double scale = 1.0 + (nv == 0 ? 0.0 : nu_new_.cwiseAbs().maxCoeff());
+      nu_bar_.swap(nu_new_);
+      // Linear convergence with ratio change/last_change: stop when the next correction would
+      // be below the tolerance, or when the corrections stop shrinking (round-off).
+      if (change <= kTolerance * scale) break;
+      if (it > 0 && change * (change / last_change) <= kTolerance * scale) break;
+      if (it > 2 && change >= last_change) break;
       last_change = change;
     }
-    // Positions and momenta at the end of the step.
-    const Eigen::VectorXd p_bar = (M_ * nu_bar).tail(n);
-    p_ = 2.0 * p_bar - p_;
-    state.q += h * nu_bar.tail(n);
+    // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
+    grad_ += loads.effort;
+    for (int k = 0; k < n; ++k)
+      grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+    p_ += h * grad_ + 2.0 * y_.tail(n);
+    state.q += h * nu_bar_.tail(n);
     rows_.clampPositions(tree, state.q);
     if (tree.floating()) {
       Pi_ += W * h;
       state.M_W0 =
-          (state.M_W0 * cga::exp(tree_math::bivector(nu_bar.head<6>()) * (-0.5 * h))).normalized();
+          (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
     }
-    // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
+    // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p); the factors serve the next step too.
     treeKinematics(tree, state, kin_);
-    massMatrix(tree, kin_, M_);
-    llt_.compute(M_);
-    Eigen::VectorXd rhs_end(nv);
-    rhs_end.tail(n) = p_;
-    if (tree.floating())
-      rhs_end.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
-    Eigen::VectorXd nu_end = llt_.solve(rhs_end);
+    factor(tree, h);
+    rhs_.resize(nv);
+    rhs_.tail(n) = p_;
+    if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
+    nu_end_ = llt_.solve(rhs_);
     // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md).
-    if (rows_.stopHeld(tree, llt_, nu_end)) p_ = (M_ * nu_end).tail(n);
-    guess_ = 2.0 * nu_end - nu_bar;  // ν(t + 3h/2) ≈ ν(t + h) + (ν(t + h) − ν(t + h/2))
-    setVelocityVector(tree, nu_end, state);
+    if (rows_.stopHeld(tree, llt_, nu_end_)) p_ = (M_ * nu_end_).tail(n);
+    // The next ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
+    // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
+    // same h (error O(h³)), else from ν(t + h) and ν̄.
+    if (fresh && h == last_h_ && runs_ >= 2) {
+      guess_ = 3.0 * nu_bar_ - 3.0 * prev_bar_ + prev_bar2_;
+    } else {
+      guess_ = 2.0 * nu_end_ - nu_bar_;
+      runs_ = 0;
+    }
+    prev_bar2_.swap(prev_bar_);
+    prev_bar_ = nu_bar_;
+    ++runs_;
+    setVelocityVector(tree, nu_end_, state);
     last_ = state;
     last_h_ = h;
     cached_ = true;
+  }
+
+  const BodyMoments& zero_moments(const ArticulatedBody& tree) {
+    zeros_.assign(tree.bodyCount(), cga::Moment());
+    return zeros_;
   }
 
   bool fourth_order_;
@@ -134,12 +182,16 @@ class Midpoint final : public TreeIntegrator {
   TreeState last_;
   double last_h_ = 0.0;
   int iterations_ = 0;
-  Eigen::VectorXd p_, guess_;
+  double factored_h_ = 0.0;
+  int runs_ = 0;  // consecutive steps of the same h, for the extrapolation
+  Eigen::VectorXd p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_,
+      rhs_;
   cga::Moment Pi_;
+  TreeState mid_;
   TreeKinematics kin_;
-  BodyMoments f_ext_;
-  Eigen::MatrixXd M_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  BodyMoments f_ext_, zeros_;
+  Eigen::MatrixXd M_, Md_;  // M and M + ½hC at the pose of the last factor()
+  Eigen::LLT<Eigen::MatrixXd> llt_, llt_damped_;
   JointRows rows_;
 };
 

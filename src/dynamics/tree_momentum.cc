@@ -13,8 +13,10 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
   const int n = tree.jointCount(), off = tree.floating() ? 6 : 0;
   const double lambda = tree.lambda();
   M.setZero(tree.velocityCount(), tree.velocityCount());
-  // Composite inertias inward, each in its own body's frame.
-  std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> Ic(n + 1, Matrix6d::Zero()), X(n + 1);
+  // Composite inertias inward, each in its own body's frame (scratch: no allocation once grown).
+  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> Ic, X;
+  Ic.assign(n + 1, Matrix6d::Zero());
+  X.resize(n + 1);
   for (int b = tree.floating() ? 0 : 1; b <= n; ++b)
     Ic[b] = tree_math::inertiaMatrix(tree.inertiaOf(b), lambda);
   for (int b = 1; b <= n; ++b) X[b] = adjointMatrix(kin.M_P[b].reverse(), lambda);
@@ -44,14 +46,23 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
 
 Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
                                     const BodyMoments& f_ext, Eigen::VectorXd* gradient) {
+  Eigen::VectorXd p;
+  momentumAndGradient(tree, kin, f_ext, p, gradient);
+  return p;
+}
+
+void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
+                         const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
-  std::vector<cga::Moment> H(n + 1), F(n + 1);
+  static thread_local std::vector<cga::Moment> H, F;  // scratch: no allocation once grown
+  H.assign(n + 1, cga::Moment());
+  F.assign(n + 1, cga::Moment());
   for (int b = tree.floating() ? 0 : 1; b <= n; ++b) {
     H[b] = tree.inertiaOf(b).apply(kin.omega[b], lambda);
     F[b] = f_ext[b];
   }
-  Eigen::VectorXd p(tree.velocityCount());
+  p.resize(tree.velocityCount());
   if (gradient) gradient->resize(n);
   for (int k = n - 1; k >= 0; --k) {
     const int b = k + 1, q = tree.joints()[k].parent;
@@ -67,7 +78,6 @@ Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinem
     }
   }
   if (tree.floating()) p.head<6>() = tree_math::vec(H[0]);
-  return p;
 }
 
 cga::Moment worldMomentum(const ArticulatedBody& tree, const TreeKinematics& kin) {

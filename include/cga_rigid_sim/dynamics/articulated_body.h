@@ -142,6 +142,9 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
 /// with F_k the external moments on the subtree in the child's frame (doc/articulated.md).
 Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
                                     const BodyMoments& f_ext, Eigen::VectorXd* gradient);
+/// The same into `p` (no allocation once p and gradient have their sizes).
+void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
+                         const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient);
 
 /// Total momentum of the tree in world axes (the trivector about the world origin) and its
 /// kinetic energy.
