@@ -11,6 +11,7 @@
 // For a fixed base this is the implicit midpoint rule on the canonical (q, p): symplectic. W is
 // the external wrench about the world origin (gravity, applied loads): Π changes by it alone.
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
@@ -29,6 +30,10 @@ namespace {
 // shrinking: the round-off floor of the solve is a few ulps of |ν̄|.
 constexpr double kTolerance = 4e-15;
 constexpr int kMaxIterations = 40;
+// A step whose last correction is above this (relative) did not converge: it is halved.
+// Stagnation at round-off ends far below it (≈ 1e-13 for ill-conditioned chains).
+constexpr double kConverged = 1e-9;
+constexpr int kMaxHalvings = 10;
 
 class Midpoint final : public TreeIntegrator {
  public:
@@ -40,13 +45,14 @@ class Midpoint final : public TreeIntegrator {
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
     iterations_ = 0;
-    if (!fourth_order_) return substep(tree, loads, h, state);
+    if (!fourth_order_) return robustSubstep(tree, loads, h, state, 0);
     // Yoshida: h γ1, h γ2, h γ1 with γ1 = 1/(2 − 2^{1/3}), γ2 = 1 − 2 γ1.
     const double g1 = 1.0 / (2.0 - std::cbrt(2.0)), g2 = 1.0 - 2.0 * g1;
-    substep(tree, loads, g1 * h, state);
-    substep(tree, loads, g2 * h, state);
-    substep(tree, loads, g1 * h, state);
+    robustSubstep(tree, loads, g1 * h, state, 0);
+    robustSubstep(tree, loads, g2 * h, state, 0);
+    robustSubstep(tree, loads, g1 * h, state, 0);
   }
+  int lastHalvings() const { return halvings_; }
 
  private:
   bool sameAsCached(const TreeState& s) const {
@@ -68,12 +74,55 @@ class Midpoint final : public TreeIntegrator {
     factored_h_ = h;
   }
 
-  void substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
+  // A step the iteration cannot solve (it stops converging when h times the tree's fastest
+  // rate nears 1: a whipping chain at a large dt) is done as two steps of h/2, recursively down
+  // to h/2^kMaxHalvings. Two midpoint steps are again a symmetric, symplectic step, so the
+  // method keeps its properties; only the cost grows.
+  void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+                     TreeState& state, int depth) {
+    const Saved saved = save(state);
+    if (substep(tree, loads, h, state) || depth >= kMaxHalvings) return;
+    restore(saved, state);
+    ++halvings_;
+    robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
+    robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
+  }
+
+  struct Saved {
+    TreeState state, last;
+    bool cached;
+    double last_h, factored_h, T;
+    int runs;
+    Eigen::VectorXd p, guess, prev_bar, prev_bar2;
+    cga::Moment Pi;
+  };
+  Saved save(const TreeState& s) const {
+    return {s,     last_, cached_, last_h_,   factored_h_, T_,
+            runs_, p_,    guess_,  prev_bar_, prev_bar2_,  Pi_};
+  }
+  void restore(const Saved& v, TreeState& s) {
+    s = v.state;
+    last_ = v.last;
+    cached_ = v.cached;
+    last_h_ = v.last_h;
+    T_ = v.T;
+    factored_h_ = 0.0;  // refactor: kin_ and the factors belong to the failed attempt
+    runs_ = 0;
+    p_ = v.p;
+    guess_ = v.guess;
+    prev_bar_ = v.prev_bar;
+    prev_bar2_ = v.prev_bar2;
+    Pi_ = v.Pi;
+  }
+
+  // One midpoint step; false when the iteration did not converge (or left finite numbers).
+  bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
     const int n = tree.jointCount(), nv = tree.velocityCount();
     const double lambda = tree.lambda();
     const bool fresh = sameAsCached(state);
     if (!fresh) {  // momenta of a state set from outside
       treeKinematics(tree, state, kin_);
+      T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
@@ -96,7 +145,7 @@ class Midpoint final : public TreeIntegrator {
     r_.resize(nv);
     mid_ = state;
     cga::Moment W;
-    double last_change = INFINITY;
+    double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
     // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
     // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
     for (int it = 0; it < kMaxIterations; ++it) {
@@ -126,6 +175,9 @@ class Midpoint final : public TreeIntegrator {
       const double change = nv == 0 ? 0.0 : (nu_new_ - nu_bar_).cwiseAbs().maxCoeff();
       const double scale = 1.0 + (nv == 0 ? 0.0 : nu_new_.cwiseAbs().maxCoeff());
       nu_bar_.swap(nu_new_);
+      // The error left in ν̄: the next correction, estimated from the ratio of the last two.
+      final_change = it > 0 ? std::min(change, change * (change / last_change)) : change;
+      final_scale = scale;
       // Linear convergence with ratio change/last_change: stop when the next correction would
       // be below the tolerance, or when the corrections stop shrinking (round-off).
       if (change <= kTolerance * scale) break;
@@ -133,6 +185,12 @@ class Midpoint final : public TreeIntegrator {
       if (it > 2 && change >= last_change) break;
       last_change = change;
     }
+    if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
+    // The power of the loads and efforts at the midpoint (kin_ holds it), for the energy check.
+    double power = loads.effort.dot(nu_bar_.tail(n));
+    for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+      power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+    const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
     for (int k = 0; k < n; ++k)
@@ -152,6 +210,14 @@ class Midpoint final : public TreeIntegrator {
     rhs_.tail(n) = p_;
     if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
     nu_end_ = llt_.solve(rhs_);
+    // A converged iteration can still have found a spurious root of the midpoint equations when
+    // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
+    // than the loads' work. Such a step is refused and halved. A true step changes T by
+    // h·power up to its O((hω)²) error: 5 % of the kinetic energy plus half the work bound
+    // that generously (the work term covers a start from rest, where T itself is O(h²)).
+    T_ = 0.5 * nu_end_.dot(M_ * nu_end_);
+    const double growth = T_ - T_start - h * power;
+    if (growth > 0.05 * (T_ + T_start) + 0.5 * std::abs(h * power) + 1e-12) return false;
     // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md).
     if (rows_.stopHeld(tree, llt_, nu_end_)) p_ = (M_ * nu_end_).tail(n);
     // The next ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
@@ -170,6 +236,7 @@ class Midpoint final : public TreeIntegrator {
     last_ = state;
     last_h_ = h;
     cached_ = true;
+    return state.allFinite();
   }
 
   const BodyMoments& zero_moments(const ArticulatedBody& tree) {
@@ -182,6 +249,8 @@ class Midpoint final : public TreeIntegrator {
   TreeState last_;
   double last_h_ = 0.0;
   int iterations_ = 0;
+  int halvings_ = 0;
+  double T_ = 0.0;  // kinetic energy of the state the integrator produced
   double factored_h_ = 0.0;
   int runs_ = 0;  // consecutive steps of the same h, for the extrapolation
   Eigen::VectorXd p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_,

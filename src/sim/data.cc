@@ -17,7 +17,7 @@ Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyStat
 Result<TreeData> makeTreeData(const Model& model, int t) {
   const TreeModel& tm = model.trees[t];
   auto integrator = dynamics::makeTreeIntegrator(model.config.integrator);
-  if (!integrator) return Error("config", "integrator", integrator.error());
+  if (!integrator) return Error("config", "integrator", integrator.failure().rule);
   TreeData d;
   d.state = tm.initial;
   d.integrator = std::move(integrator.value());

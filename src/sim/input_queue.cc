@@ -30,10 +30,12 @@ void InputQueue::clear() {
 
 void InputQueue::clearWrenches() {
   compact();
-  items_.erase(
-      std::remove_if(items_.begin(), items_.end(),
-                     [](const QueuedInput& q) { return q.kind == QueuedInput::Kind::kWrench; }),
-      items_.end());
+  items_.erase(std::remove_if(items_.begin(), items_.end(),
+                              [](const QueuedInput& q) {
+                                return q.kind == QueuedInput::Kind::kWrench ||
+                                       q.kind == QueuedInput::Kind::kTimedEffort;
+                              }),
+               items_.end());
 }
 
 void InputQueue::removeBody(int body) {

@@ -52,9 +52,12 @@ Result<bool> queueJointEfforts(const Model& model, Data& data, const JointEffort
     if (!joint) return joint.failure();
     if (!seen.insert(in.names[n]).second)
       return Error(what, field, "joint '" + in.names[n] + "' given twice");
+    const std::string effort = "effort[" + std::to_string(n) + "]";
     if (!std::isfinite(in.efforts[n]))
-      return Error(what, "effort[" + std::to_string(n) + "]",
-                   "not finite (" + num(in.efforts[n]) + ")");
+      return Error(what, effort, "not finite (" + num(in.efforts[n]) + ")");
+    if (auto e = checkMagnitude(what, effort, Eigen::Vector3d(in.efforts[n], 0, 0),
+                                model.config.max_force, "max_force", "N m (or N)"))
+      return *e;
     QueuedInput q;
     q.kind = QueuedInput::Kind::kHeldEffort;
     q.step = *k;
@@ -73,6 +76,9 @@ Result<bool> queueTimedJointEffort(const Model& model, Data& data,
   auto joint = findJoint(model, what, "joint", in.joint);
   if (!joint) return joint.failure();
   if (auto e = checkFinite(what, "effort", in.effort)) return *e;
+  if (auto e = checkMagnitude(what, "effort", Eigen::Vector3d(in.effort, 0, 0),
+                              model.config.max_force, "max_force", "N m (or N)"))
+    return *e;
   if (auto e = checkFinite(what, "duration", in.duration)) return *e;
   auto k = stepOf(model, data, what, in.start_time);
   if (!k) return k.failure();

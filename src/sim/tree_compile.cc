@@ -48,7 +48,7 @@ std::optional<Error> compileTrees(Model& model) {
   model.joint_by_name.clear();
   if (model.scene.joints.empty()) return std::nullopt;
   auto integrator = dynamics::makeTreeIntegrator(model.config.integrator);
-  if (!integrator) return Error("config", "integrator", integrator.error());
+  if (!integrator) return Error("config", "integrator", integrator.failure().rule);
 
   // Joints per tree, in scene order (parent first), before the ArticulatedBody is built.
   struct Building {

@@ -73,6 +73,7 @@ Result<bool> World::applyImpulse(const ImpulseInput& in) {
 
 void World::clearWrenches() {
   dropActiveWrenches(impl_->data);
+  for (TreeData& t : impl_->data.trees) t.timed.clear();
   impl_->data.queue.clearWrenches();
 }
 

@@ -68,7 +68,7 @@ class InputQueue {
 
   /// Drops everything waiting. The arrival counter keeps running.
   void clear();
-  /// Drops every waiting wrench (impulses stay).
+  /// Drops every waiting wrench and timed joint effort (impulses and held efforts stay).
   void clearWrenches();
   /// Drops the inputs of moving body `body` and renumbers the bodies after it (body − 1), as
   /// when that body is deleted.

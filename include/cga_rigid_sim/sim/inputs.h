@@ -47,8 +47,9 @@ struct ImpulseInput {
 /// joint, as an effort controller does. Each effort is clamped to the joint's <limit effort>
 /// when applied (counted in JointStateReport::clamped_steps). Refused as a whole, nothing
 /// applied, for: names and efforts of different lengths, an unknown joint, a duplicate name,
-/// an effort that is not finite, a stamp already past. Error messages call the fields
-/// joint_efforts.{name, effort, stamp} ("joint_efforts.effort[2]: not finite (nan)").
+/// an effort that is not finite or larger than max_force (N m or N), a stamp already past. Error
+/// messages call the fields joint_efforts.{name, effort, stamp} ("joint_efforts.effort[2]: not
+/// finite (nan)").
 struct JointEffortInput {
   std::vector<std::string> names;
   std::vector<double> efforts;  ///< N m (revolute, continuous) or N (prismatic)

@@ -99,7 +99,8 @@ class World {
   /// body 'x'", …; the list in the file comment). Returns true when queued.
   Result<bool> applyWrench(const WrenchInput& in);
   Result<bool> applyImpulse(const ImpulseInput& in);
-  /// Ends every active and queued wrench now (impulses stay queued).
+  /// Ends every active and queued wrench and timed joint effort now (impulses stay queued;
+  /// held joint efforts stay: they are commands, replaced by the next one).
   void clearWrenches();
   /// Every moving body back to its initial state exactly (the scene's, or the placement of
   /// spawnUrdf), integrators reset, active wrenches and queued inputs dropped. The step counter
