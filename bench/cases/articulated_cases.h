@@ -1,13 +1,15 @@
-// Articulated benchmark cases (doc/benchmarks-articulated.md): serial chains of revolute joints
-// on a fixed base, the same description for every engine, and the engine-independent pieces of
-// the metrics (kinematics, energy, joint-space dynamics for the reference solution).
+// Articulated benchmark cases (doc/benchmarks-articulated.md): trees of revolute joints on a
+// fixed base (the world) or on a floating base (a free root body), the same description for
+// every engine, and the engine-independent pieces of the metrics (kinematics, energy,
+// equations of motion for the reference solution).
 //
 // Header-only so that the peer runners (bench/peers/articulated_<engine>.cc), the reference
 // (articulated_reference.cc) and our own runner (bench/articulated.cc) share it without a link
 // dependency.
 //
-// Model. Joint i moves link i. Its joint frame J_i sits in the frame of link parent(i) (or in
-// the world, parent = -1) at (R_i, p_i) = (origin_R, origin_xyz); at q_i = 0 the link frame is
+// Model. Joint i moves link i. Its joint frame J_i sits in the frame of link parent(i) (or, for
+// parent = -1, in the world or the floating base) at (R_i, p_i) = (origin_R, origin_xyz); at
+// q_i = 0 the link frame is
 // J_i, and the joint turns the link about the unit `axis` (in J_i, = in the link frame) by q_i:
 //   R_link(i) = R_link(parent) R_i Rot(axis_i, q_i),   x_link(i) = x_link(parent) + R_link(parent)
 //   p_i.
@@ -17,9 +19,14 @@
 // URDF's literals (urdf/double_pendulum.urdf, urdf/arm7.urdf), so that a simulator reading the
 // URDF gets bit-identical parameters; bench_articulated_reference checks the two agree.
 //
+// A floating base (BaseSpec) is the root link of the URDF: it starts at the identity pose with
+// the velocities of BaseSpec (world axes; the velocity is that of the base frame's origin).
+// Its state is (R_b, p_b, w_b, v_b), world frame.
+//
 // Energy. E = kinetic + V(q) - V(0), V = -sum m g.x_com: the potential is measured from q = 0
-// (the hanging configuration of both cases), so that |E(0)| is the energy of the motion and not
-// an arbitrary offset set by the height of the pivot. Relative drift = max_t |E(t) - E(0)| / E(0).
+// (the hanging configuration of the fixed-base cases; base at the identity), so that |E(0)| is
+// the energy of the motion and not an arbitrary offset set by the height of the pivot.
+// Relative drift = max_t |E(t) - E(0)| / E(0).
 #pragma once
 
 #include <Eigen/Core>
@@ -36,7 +43,7 @@ constexpr double kG = 9.81;
 
 struct JointSpec {
   std::string joint, link;  // URDF names
-  int parent = -1;          // index of the parent joint's link; -1: the world (fixed base)
+  int parent = -1;          // index of the parent joint's link; -1: the base (world or floating)
   std::array<double, 3> origin_xyz{0, 0, 0};  // joint frame in the parent link's frame
   std::array<double, 9> origin_R{1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major, parent -> joint frame
   std::array<double, 3> axis{0, 1, 0};                        // unit, in the joint (= link) frame
@@ -46,9 +53,22 @@ struct JointSpec {
   double limit = 0;  // |q| limit of the URDF (rad), 0: continuous; not enforced by the benchmark
 };
 
+// A floating base: the URDF's root link as a free body. Absent (floating = false): the base is
+// the world.
+struct BaseSpec {
+  bool floating = false;
+  std::string link;
+  double mass = 0;
+  std::array<double, 3> com{0, 0, 0};           // base frame
+  std::array<double, 3> inertia_diag{0, 0, 0};  // about the CoM, base axes
+  std::array<double, 3> w0{0, 0, 0};            // initial angular velocity, world (= base axes)
+  std::array<double, 3> v0{0, 0, 0};            // initial velocity of the base frame origin, world
+};
+
 struct ArticulatedCase {
   std::string name;
-  std::string urdf;               // relative to the repository root
+  std::string urdf;  // relative to the repository root
+  BaseSpec base;
   std::vector<JointSpec> joints;  // parents before children
   std::vector<double> q0, qd0;    // rad, rad/s
   std::array<double, 3> gravity{0, 0, -kG};
@@ -133,7 +153,47 @@ inline ArticulatedCase arm7() {
   return c;
 }
 
-inline std::vector<ArticulatedCase> allArticulatedCases() { return {doublePendulum(), arm7()}; }
+// urdf/satellite.urdf in free space: a 100 kg cubic bus with two 10 kg panels on hinges about
+// the bus's y. The bus spins about z (its axis of largest inertia with the panels out) and
+// wobbles a little; the panels start folded by 0.4 and -0.3 rad and at rest relative to the bus.
+// The spin's centrifugal pull swings them about their flat position, through +-0.4 rad, inside
+// their +-pi/2 limits (bench_articulated_reference prints the ranges).
+inline ArticulatedCase satellite() {
+  ArticulatedCase c;
+  c.name = "satellite";
+  c.urdf = "urdf/satellite.urdf";
+  c.gravity = {0, 0, 0};
+  c.base.floating = true;
+  c.base.link = "bus";
+  c.base.mass = 100.0;
+  c.base.com = {0, 0, 0};
+  c.base.inertia_diag = {16.666666666666668, 16.666666666666668, 16.666666666666668};
+  c.base.w0 = {0.05, 0.1, 1.0};
+  c.base.v0 = {0, 0, 0};
+  JointSpec panel;
+  panel.axis = {0, 1, 0};
+  panel.mass = 10.0;
+  panel.inertia_diag = {0.5336666666666667, 3.333666666666667, 3.8666666666666667};
+  panel.limit = 1.5707963267948966;
+  JointSpec right = panel, left = panel;
+  right.joint = "hinge_right";
+  right.link = "panel_right";
+  right.origin_xyz = {0.52, 0, 0};
+  right.com = {1, 0, 0};
+  left.joint = "hinge_left";
+  left.link = "panel_left";
+  left.origin_xyz = {-0.52, 0, 0};
+  left.com = {-1, 0, 0};
+  c.joints = {right, left};
+  c.q0 = {0.4, -0.3};
+  c.qd0 = {0.0, 0.0};
+  c.T = 10.0;
+  return c;
+}
+
+inline std::vector<ArticulatedCase> allArticulatedCases() {
+  return {doublePendulum(), arm7(), satellite()};
+}
 
 // Angle difference wrapped to (-pi, pi] (ODE reports hinge angles wrapped).
 template <class S>
@@ -144,18 +204,31 @@ S wrapAngle(S a) {
   return atan2(sin(a), cos(a));
 }
 
-// World poses and velocities of all links, and the pieces the dynamics needs.
+// The state of a floating base (world frame); for a fixed base it stays the identity at rest.
+template <class S>
+struct BaseState {
+  Eigen::Matrix<S, 3, 3> R = Eigen::Matrix<S, 3, 3>::Identity();
+  Eigen::Matrix<S, 3, 1> p = Eigen::Matrix<S, 3, 1>::Zero();
+  Eigen::Matrix<S, 3, 1> w = Eigen::Matrix<S, 3, 1>::Zero();
+  Eigen::Matrix<S, 3, 1> v = Eigen::Matrix<S, 3, 1>::Zero();  // of the base frame origin
+};
+
+// World poses and velocities of all links (and of the base, when it floats), and the pieces the
+// dynamics needs.
 template <class S>
 struct Kinematics {
   using V3 = Eigen::Matrix<S, 3, 1>;
   using M3 = Eigen::Matrix<S, 3, 3>;
-  std::vector<M3> R;   // link orientation (world)
-  std::vector<V3> x;   // link frame origin = joint position (world)
-  std::vector<V3> z;   // joint axis (world)
-  std::vector<V3> c;   // CoM (world)
-  std::vector<V3> w;   // angular velocity (world)
-  std::vector<V3> vc;  // CoM velocity (world)
-  std::vector<M3> Iw;  // inertia about the CoM, world axes
+  std::vector<M3> R;                             // link orientation (world)
+  std::vector<V3> x;                             // link frame origin = joint position (world)
+  std::vector<V3> z;                             // joint axis (world)
+  std::vector<V3> c;                             // CoM (world)
+  std::vector<V3> w;                             // angular velocity (world)
+  std::vector<V3> vc;                            // CoM velocity (world)
+  std::vector<M3> Iw;                            // inertia about the CoM, world axes
+  BaseState<S> base;                             // the base's state as given
+  V3 base_c = V3::Zero(), base_vc = V3::Zero();  // floating base: CoM and its velocity
+  M3 base_Iw = M3::Zero();                       // floating base: inertia about its CoM, world
 };
 
 template <class S>
@@ -168,7 +241,13 @@ Eigen::Matrix<S, 3, 3> axisRotation(const Eigen::Matrix<S, 3, 1>& a, S q) {
 }
 
 template <class S>
-Kinematics<S> kinematics(const ArticulatedCase& cs, const S* q, const S* qd) {
+Eigen::Matrix<S, 3, 1> vec3(const std::array<double, 3>& a) {
+  return Eigen::Matrix<S, 3, 1>(S(a[0]), S(a[1]), S(a[2]));
+}
+
+template <class S>
+Kinematics<S> kinematics(const ArticulatedCase& cs, const BaseState<S>& base, const S* q,
+                         const S* qd) {
   using V3 = Eigen::Matrix<S, 3, 1>;
   using M3 = Eigen::Matrix<S, 3, 3>;
   const int n = cs.n();
@@ -180,17 +259,22 @@ Kinematics<S> kinematics(const ArticulatedCase& cs, const S* q, const S* qd) {
   k.w.resize(n);
   k.vc.resize(n);
   k.Iw.resize(n);
+  k.base = base;
+  if (cs.base.floating) {
+    const V3 rc = base.R * vec3<S>(cs.base.com);
+    k.base_c = base.p + rc;
+    k.base_vc = base.v + base.w.cross(rc);
+    k.base_Iw = base.R * vec3<S>(cs.base.inertia_diag).asDiagonal() * base.R.transpose();
+  }
   std::vector<V3> vo(n);  // velocity of the link frame origin
   for (int i = 0; i < n; ++i) {
     const JointSpec& j = cs.joints[i];
     M3 Ro;
     for (int r = 0; r < 3; ++r)
       for (int s = 0; s < 3; ++s) Ro(r, s) = S(j.origin_R[3 * r + s]);
-    const V3 p(S(j.origin_xyz[0]), S(j.origin_xyz[1]), S(j.origin_xyz[2]));
-    const V3 a(S(j.axis[0]), S(j.axis[1]), S(j.axis[2]));
-    const V3 com(S(j.com[0]), S(j.com[1]), S(j.com[2]));
-    M3 Rp = M3::Identity();
-    V3 xp = V3::Zero(), wp = V3::Zero(), vp = V3::Zero();
+    const V3 p = vec3<S>(j.origin_xyz), a = vec3<S>(j.axis), com = vec3<S>(j.com);
+    M3 Rp = base.R;
+    V3 xp = base.p, wp = base.w, vp = base.v;
     if (j.parent >= 0) {
       Rp = k.R[j.parent];
       xp = k.x[j.parent];
@@ -206,45 +290,76 @@ Kinematics<S> kinematics(const ArticulatedCase& cs, const S* q, const S* qd) {
     const V3 rc = k.R[i] * com;
     k.c[i] = k.x[i] + rc;
     k.vc[i] = vo[i] + k.w[i].cross(rc);
-    const V3 d(S(j.inertia_diag[0]), S(j.inertia_diag[1]), S(j.inertia_diag[2]));
-    k.Iw[i] = k.R[i] * d.asDiagonal() * k.R[i].transpose();
+    k.Iw[i] = k.R[i] * vec3<S>(j.inertia_diag).asDiagonal() * k.R[i].transpose();
   }
   return k;
 }
 
-// Kinetic + potential energy, potential measured from q = 0 (see the header comment). Holds the
-// CoMs at q = 0, so that an evaluation costs one kinematics pass.
+template <class S>
+Kinematics<S> kinematics(const ArticulatedCase& cs, const S* q, const S* qd) {
+  return kinematics<S>(cs, BaseState<S>(), q, qd);
+}
+
+// The initial base state of a case (identity pose, BaseSpec velocities; at rest if fixed).
+template <class S>
+BaseState<S> initialBase(const ArticulatedCase& cs) {
+  BaseState<S> b;
+  if (cs.base.floating) {
+    b.w = vec3<S>(cs.base.w0);
+    b.v = vec3<S>(cs.base.v0);
+  }
+  return b;
+}
+
+// Kinetic + potential energy, potential measured from q = 0 and the base at the identity (see
+// the header comment). Holds the CoMs of that configuration, so that an evaluation costs one
+// kinematics pass.
 template <class S>
 class EnergyMeter {
  public:
   explicit EnergyMeter(const ArticulatedCase& cs) : cs_(cs) {
     std::vector<S> zero(cs.n(), S(0));
-    c0_ = kinematics<S>(cs, zero.data(), zero.data()).c;
+    const Kinematics<S> k0 = kinematics<S>(cs, zero.data(), zero.data());
+    c0_ = k0.c;
+    base_c0_ = k0.base_c;
   }
   S operator()(const S* q, const S* qd) const { return fromKinematics(kinematics<S>(cs_, q, qd)); }
+  S operator()(const BaseState<S>& base, const S* q, const S* qd) const {
+    return fromKinematics(kinematics<S>(cs_, base, q, qd));
+  }
   S fromKinematics(const Kinematics<S>& k) const {
-    const Eigen::Matrix<S, 3, 1> g(S(cs_.gravity[0]), S(cs_.gravity[1]), S(cs_.gravity[2]));
+    const Eigen::Matrix<S, 3, 1> g = vec3<S>(cs_.gravity);
     S e = S(0);
     for (int i = 0; i < cs_.n(); ++i) {
       const S m = S(cs_.joints[i].mass);
       e += S(0.5) * m * k.vc[i].squaredNorm() + S(0.5) * k.w[i].dot(k.Iw[i] * k.w[i]);
       e -= m * g.dot(k.c[i] - c0_[i]);
     }
+    if (cs_.base.floating) {
+      const S m = S(cs_.base.mass);
+      e += S(0.5) * m * k.base_vc.squaredNorm() + S(0.5) * k.base.w.dot(k.base_Iw * k.base.w);
+      e -= m * g.dot(k.base_c - base_c0_);
+    }
     return e;
   }
-  // The same from world body states (maximal coordinates, e.g. ODE): per link the CoM position
-  // and velocity, the orientation and the angular velocity.
+  // The same from world body states (maximal coordinates, e.g. ODE), one entry per body: the
+  // floating base first (when there is one), then the links in case order. Per body the CoM
+  // position and velocity, the orientation and the angular velocity.
   double fromBodies(const std::vector<Eigen::Vector3d>& com,
                     const std::vector<Eigen::Vector3d>& vcom, const std::vector<Eigen::Matrix3d>& R,
                     const std::vector<Eigen::Vector3d>& w) const {
-    const Eigen::Vector3d g(cs_.gravity[0], cs_.gravity[1], cs_.gravity[2]);
+    const Eigen::Vector3d g = vec3<double>(cs_.gravity);
+    const int off = cs_.base.floating ? 1 : 0;
     double e = 0;
-    for (int i = 0; i < cs_.n(); ++i) {
-      const JointSpec& j = cs_.joints[i];
-      const Eigen::Vector3d d(j.inertia_diag[0], j.inertia_diag[1], j.inertia_diag[2]);
-      const Eigen::Vector3d wb = R[i].transpose() * w[i];
-      e += 0.5 * j.mass * vcom[i].squaredNorm() + 0.5 * wb.dot(d.asDiagonal() * wb);
-      e -= j.mass * g.dot(com[i] - c0_[i].template cast<double>());
+    for (int b = 0; b < cs_.n() + off; ++b) {
+      const bool is_base = b < off;
+      const double m = is_base ? cs_.base.mass : cs_.joints[b - off].mass;
+      const Eigen::Vector3d d =
+          vec3<double>(is_base ? cs_.base.inertia_diag : cs_.joints[b - off].inertia_diag);
+      const Eigen::Vector3d c0 = (is_base ? base_c0_ : c0_[b - off]).template cast<double>();
+      const Eigen::Vector3d wb = R[b].transpose() * w[b];
+      e += 0.5 * m * vcom[b].squaredNorm() + 0.5 * wb.dot(d.asDiagonal() * wb);
+      e -= m * g.dot(com[b] - c0);
     }
     return e;
   }
@@ -252,57 +367,85 @@ class EnergyMeter {
  private:
   const ArticulatedCase& cs_;
   std::vector<Eigen::Matrix<S, 3, 1>> c0_;
+  Eigen::Matrix<S, 3, 1> base_c0_ = Eigen::Matrix<S, 3, 1>::Zero();
 };
 
 template <class S>
 S energy(const ArticulatedCase& cs, const S* q, const S* qd) {
-  return EnergyMeter<S>(cs)(q, qd);
+  const BaseState<S> b = initialBase<S>(cs);
+  return EnergyMeter<S>(cs)(b, q, qd);
 }
 
+// The energy of a case's initial state.
 inline double energy(const ArticulatedCase& cs, const std::vector<double>& q,
                      const std::vector<double>& qd) {
   return energy<double>(cs, q.data(), qd.data());
 }
 
-// Joint-space dynamics M(q) qdd = tau - b(q, qd) (b: Coriolis, centrifugal and gravity), for
-// the reference solution: M from the link Jacobians, b from a recursive Newton-Euler pass with
-// qdd = 0 and the base accelerating at -g. Returns qdd (tau = 0: the benchmark is unactuated).
+// Equations of motion M(x) a = -b(x, nu) (b: Coriolis, centrifugal and gravity; no actuation),
+// for the reference solution. Generalised velocities nu = (qd) for a fixed base and
+// nu = (v_b, w_b, qd) (world axes) for a floating one; a = d(nu)/dt. M from the body Jacobians,
+// b from a recursive Newton-Euler pass with a = 0 and the base origin accelerating at -g (the
+// floating base's rows: the total force, and moment about the base origin, of all bodies).
 template <class S>
-Eigen::Matrix<S, Eigen::Dynamic, 1> forwardDynamics(const ArticulatedCase& cs, const S* q,
+Eigen::Matrix<S, Eigen::Dynamic, 1> forwardDynamics(const ArticulatedCase& cs,
+                                                    const BaseState<S>& base, const S* q,
                                                     const S* qd) {
   using V3 = Eigen::Matrix<S, 3, 1>;
+  using M3 = Eigen::Matrix<S, 3, 3>;
   using VX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using MX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using JX = Eigen::Matrix<S, 3, Eigen::Dynamic>;
   const int n = cs.n();
-  const Kinematics<S> k = kinematics<S>(cs, q, qd);
+  const int off = cs.base.floating ? 6 : 0;  // columns of (v_b, w_b)
+  const int dof = n + off;
+  const Kinematics<S> k = kinematics<S>(cs, base, q, qd);
+  auto skew = [](const V3& r) {
+    M3 K;
+    K << S(0), -r(2), r(1), r(2), S(0), -r(0), -r(1), r(0), S(0);
+    return K;
+  };
   // Ancestors (including itself) of each link.
   std::vector<std::vector<int>> chain(n);
   for (int i = 0; i < n; ++i)
     for (int a = i; a >= 0; a = cs.joints[a].parent) chain[i].push_back(a);
-  MX M = MX::Zero(n, n);
+  MX M = MX::Zero(dof, dof);
   for (int i = 0; i < n; ++i) {
     const S m = S(cs.joints[i].mass);
-    Eigen::Matrix<S, 3, Eigen::Dynamic> Jv = Eigen::Matrix<S, 3, Eigen::Dynamic>::Zero(3, n),
-                                        Jw = Eigen::Matrix<S, 3, Eigen::Dynamic>::Zero(3, n);
+    JX Jv = JX::Zero(3, dof), Jw = JX::Zero(3, dof);
+    if (off) {
+      Jv.block(0, 0, 3, 3) = M3::Identity();
+      Jv.block(0, 3, 3, 3) = -skew(k.c[i] - base.p);
+      Jw.block(0, 3, 3, 3) = M3::Identity();
+    }
     for (int a : chain[i]) {
-      Jw.col(a) = k.z[a];
-      Jv.col(a) = k.z[a].cross(k.c[i] - k.x[a]);
+      Jw.col(off + a) = k.z[a];
+      Jv.col(off + a) = k.z[a].cross(k.c[i] - k.x[a]);
     }
     M += m * Jv.transpose() * Jv + Jw.transpose() * k.Iw[i] * Jw;
   }
-  // Recursive Newton-Euler, world frame, qdd = 0, base acceleration -g (gravity).
-  const V3 g(S(cs.gravity[0]), S(cs.gravity[1]), S(cs.gravity[2]));
+  if (off) {
+    const S m = S(cs.base.mass);
+    JX Jv = JX::Zero(3, dof), Jw = JX::Zero(3, dof);
+    Jv.block(0, 0, 3, 3) = M3::Identity();
+    Jv.block(0, 3, 3, 3) = -skew(k.base_c - base.p);
+    Jw.block(0, 3, 3, 3) = M3::Identity();
+    M += m * Jv.transpose() * Jv + Jw.transpose() * k.base_Iw * Jw;
+  }
+  // Recursive Newton-Euler, world frame, a = 0, base origin acceleration -g.
+  const V3 g = vec3<S>(cs.gravity);
   std::vector<V3> alpha(n), ao(n), f(n, V3::Zero()), nn(n, V3::Zero());
   for (int i = 0; i < n; ++i) {
     const int p = cs.joints[i].parent;
-    const V3 wp = p >= 0 ? k.w[p] : V3::Zero();
+    const V3 wp = p >= 0 ? k.w[p] : base.w;
     const V3 alp = p >= 0 ? alpha[p] : V3::Zero();
     const V3 aop = p >= 0 ? ao[p] : V3(-g);
-    const V3 xp = p >= 0 ? k.x[p] : V3::Zero();
+    const V3 xp = p >= 0 ? k.x[p] : base.p;
     const V3 r = k.x[i] - xp;
     alpha[i] = alp + wp.cross(k.z[i] * qd[i]);
     ao[i] = aop + alp.cross(r) + wp.cross(wp.cross(r));
   }
+  V3 fb = V3::Zero(), nb = V3::Zero();  // on the floating base's rows, about its origin
   for (int i = n - 1; i >= 0; --i) {
     const S m = S(cs.joints[i].mass);
     const V3 rc = k.c[i] - k.x[i];
@@ -313,11 +456,29 @@ Eigen::Matrix<S, Eigen::Dynamic, 1> forwardDynamics(const ArticulatedCase& cs, c
     if (p >= 0) {
       f[p] += f[i];
       nn[p] += nn[i] + (k.x[i] - k.x[p]).cross(f[i]);
+    } else {
+      fb += f[i];
+      nb += nn[i] + (k.x[i] - base.p).cross(f[i]);
     }
   }
-  VX b(n);
-  for (int i = 0; i < n; ++i) b(i) = k.z[i].dot(nn[i]);
+  VX b(dof);
+  if (off) {
+    const S m = S(cs.base.mass);
+    const V3 rc = k.base_c - base.p;
+    const V3 ac = V3(-g) + base.w.cross(base.w.cross(rc));
+    fb += m * ac;
+    nb += k.base.w.cross(k.base_Iw * base.w) + rc.cross(m * ac);
+    b.head(3) = fb;
+    b.segment(3, 3) = nb;
+  }
+  for (int i = 0; i < n; ++i) b(off + i) = k.z[i].dot(nn[i]);
   return M.ldlt().solve(-b);
+}
+
+template <class S>
+Eigen::Matrix<S, Eigen::Dynamic, 1> forwardDynamics(const ArticulatedCase& cs, const S* q,
+                                                    const S* qd) {
+  return forwardDynamics<S>(cs, BaseState<S>(), q, qd);
 }
 
 }  // namespace articulated

@@ -53,6 +53,13 @@ std::string cacheKey(const ArticulatedCase& c) {
     for (double v : j.inertia_diag) os << "," << v;
     os << "]";
   }
+  if (c.base.floating) {
+    os << " base " << c.base.mass;
+    for (double v : c.base.com) os << "," << v;
+    for (double v : c.base.inertia_diag) os << "," << v;
+    for (double v : c.base.w0) os << "," << v;
+    for (double v : c.base.v0) os << "," << v;
+  }
   os << " q0";
   for (double v : c.q0) os << "," << v;
   os << " qd0";
@@ -63,27 +70,63 @@ std::string cacheKey(const ArticulatedCase& c) {
 }  // namespace
 
 ReferenceRun integrateReference(const ArticulatedCase& c, double h_in, Rhs rhs) {
+  using V3 = Eigen::Matrix<LD, 3, 1>;
   const int n = c.n();
+  const bool fl = c.base.floating;
+  // Layout: fixed (q, qd); floating (p_b, quat_b (w, x, y, z), q, v_b, w_b, qd).
+  const int np = fl ? 7 + n : n, nv = fl ? 6 + n : n, oq = fl ? 7 : 0;
   const long N = std::lround(c.T / h_in);
   const LD h = LD(c.T) / LD(N);
-  VX y(2 * n);
-  for (int i = 0; i < n; ++i) {
-    y(i) = c.q0[i];
-    y(n + i) = c.qd0[i];
+  VX y = VX::Zero(np + nv);
+  if (fl) {
+    y(3) = 1;
+    for (int i = 0; i < 3; ++i) {
+      y(np + i) = c.base.v0[i];
+      y(np + 3 + i) = c.base.w0[i];
+    }
   }
+  for (int i = 0; i < n; ++i) {
+    y(oq + i) = c.q0[i];
+    y(np + nv - n + i) = c.qd0[i];
+  }
+  auto baseOf = [&](const VX& s) {
+    BaseState<LD> b;
+    if (fl) {
+      const Eigen::Quaternion<LD> qb(s(3), s(4), s(5), s(6));
+      b.R = qb.toRotationMatrix();
+      b.p = s.head(3);
+      b.v = s.segment(np, 3);
+      b.w = s.segment(np + 3, 3);
+    }
+    return b;
+  };
   auto f = [&](const VX& s) {
-    VX d(2 * n);
-    d.head(n) = s.tail(n);
-    d.tail(n) = rhs == Rhs::kLagrangeDoublePendulum
-                    ? lagrangeDoublePendulum(c, s.data(), s.data() + n)
-                    : forwardDynamics<LD>(c, s.data(), s.data() + n);
+    VX d(np + nv);
+    const LD* q = s.data() + oq;
+    const LD* qd = s.data() + np + nv - n;
+    if (fl) {
+      const V3 w = s.segment(np + 3, 3);
+      const LD qw = s(3), qx = s(4), qy = s(5), qz = s(6);
+      d.head(3) = s.segment(np, 3);
+      // (0, w) * (qw, qx, qy, qz) / 2: w in world axes multiplies from the left.
+      d(3) = LD(0.5) * (-w(0) * qx - w(1) * qy - w(2) * qz);
+      d(4) = LD(0.5) * (w(0) * qw + w(1) * qz - w(2) * qy);
+      d(5) = LD(0.5) * (w(1) * qw + w(2) * qx - w(0) * qz);
+      d(6) = LD(0.5) * (w(2) * qw + w(0) * qy - w(1) * qx);
+    }
+    d.segment(oq, n) = s.tail(n);
+    d.tail(nv) = rhs == Rhs::kLagrangeDoublePendulum ? lagrangeDoublePendulum(c, q, qd)
+                                                     : forwardDynamics<LD>(c, baseOf(s), q, qd);
     return d;
   };
   ReferenceRun run;
   run.q_min.assign(c.q0.begin(), c.q0.end());
   run.q_max = run.q_min;
   const EnergyMeter<LD> energy_of(c);
-  const LD E0 = energy_of(y.data(), y.data() + n);
+  auto energyOf = [&](const VX& s) {
+    return energy_of(baseOf(s), s.data() + oq, s.data() + np + nv - n);
+  };
+  const LD E0 = energyOf(y);
   const long every = std::max(1L, N / 20000);  // energy sampled ~20000 times
   for (long k = 1; k <= N; ++k) {
     const VX k1 = f(y);
@@ -91,18 +134,20 @@ ReferenceRun integrateReference(const ArticulatedCase& c, double h_in, Rhs rhs) 
     const VX k3 = f(y + (h / 2) * k2);
     const VX k4 = f(y + h * k3);
     y += (h / 6) * (k1 + 2 * k2 + 2 * k3 + k4);
+    if (fl) y.segment(3, 4).normalize();
     for (int i = 0; i < n; ++i) {
-      run.q_min[i] = std::min(run.q_min[i], double(y(i)));
-      run.q_max[i] = std::max(run.q_max[i], double(y(i)));
+      run.q_min[i] = std::min(run.q_min[i], double(y(oq + i)));
+      run.q_max[i] = std::max(run.q_max[i], double(y(oq + i)));
     }
     if (k % every == 0 || k == N) {
-      const LD E = energy_of(y.data(), y.data() + n);
+      const LD E = energyOf(y);
       run.max_energy_drift_rel =
           std::max(run.max_energy_drift_rel, std::fabs(E - E0) / std::fabs(E0));
     }
   }
-  run.q.assign(y.data(), y.data() + n);
-  run.qd.assign(y.data() + n, y.data() + 2 * n);
+  run.q.assign(y.data() + oq, y.data() + oq + n);
+  run.qd.assign(y.data() + np + nv - n, y.data() + np + nv);
+  run.base = baseOf(y);
   run.steps = N;
   return run;
 }
@@ -121,17 +166,23 @@ ArticulatedReference articulatedReference(const ArticulatedCase& c, const std::s
       std::getline(in, line);  // header
       ref.q.resize(n);
       ref.qd.resize(n);
-      int got = 0;
+      int got = 0, base = 0;
       while (std::getline(in, line)) {
         int i = 0;
         double q = 0, qd = 0;
-        if (std::sscanf(line.c_str(), "%d,%lf,%lf", &i, &q, &qd) == 3 && i >= 0 && i < n) {
+        auto& bq = ref.base_quat;
+        auto &bp = ref.base_p, &bw = ref.base_w, &bv = ref.base_v;
+        if (std::sscanf(line.c_str(), "base,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf",
+                        &bq[0], &bq[1], &bq[2], &bq[3], &bp[0], &bp[1], &bp[2], &bw[0], &bw[1],
+                        &bw[2], &bv[0], &bv[1], &bv[2]) == 13) {
+          base = 1;
+        } else if (std::sscanf(line.c_str(), "%d,%lf,%lf", &i, &q, &qd) == 3 && i >= 0 && i < n) {
           ref.q[i] = q;
           ref.qd[i] = qd;
           ++got;
         }
       }
-      if (got == n) return ref;
+      if (got == n && base == (c.base.floating ? 1 : 0)) return ref;
     }
   }
   std::fprintf(stderr, "[reference] %s: RK4 in long double, h = %g, %ld steps ...\n",
@@ -139,10 +190,26 @@ ArticulatedReference articulatedReference(const ArticulatedCase& c, const std::s
   const ReferenceRun run = integrateReference(c, kReferenceStep);
   ref.q.assign(run.q.begin(), run.q.end());
   ref.qd.assign(run.qd.begin(), run.qd.end());
+  if (c.base.floating) {
+    const Eigen::Quaternion<LD> qb(run.base.R);
+    ref.base_quat = {double(qb.w()), double(qb.x()), double(qb.y()), double(qb.z())};
+    for (int i = 0; i < 3; ++i) {
+      ref.base_p[i] = double(run.base.p(i));
+      ref.base_w[i] = double(run.base.w(i));
+      ref.base_v[i] = double(run.base.v(i));
+    }
+  }
   FILE* f = std::fopen(path.c_str(), "w");
   if (f) {
     std::fprintf(f, "# %s\njoint,q,qd\n", key.c_str());
     for (int i = 0; i < n; ++i) std::fprintf(f, "%d,%.17g,%.17g\n", i, ref.q[i], ref.qd[i]);
+    if (c.base.floating) {
+      std::fprintf(f, "base");
+      for (double v : ref.base_quat) std::fprintf(f, ",%.17g", v);
+      for (const auto* a : {&ref.base_p, &ref.base_w, &ref.base_v})
+        for (double v : *a) std::fprintf(f, ",%.17g", v);
+      std::fprintf(f, "\n");
+    }
     std::fclose(f);
   }
   return ref;
@@ -168,6 +235,17 @@ double jointVelocityError(const std::vector<double>& qd, const ArticulatedRefere
     if (std::isnan(e)) break;
   }
   return e;
+}
+
+double baseOrientationError(const Eigen::Matrix3d& R, const ArticulatedReference& ref) {
+  const Eigen::Quaterniond qr(ref.base_quat[0], ref.base_quat[1], ref.base_quat[2],
+                              ref.base_quat[3]);
+  const Eigen::Quaterniond d(qr.toRotationMatrix().transpose() * R);
+  return 2 * std::atan2(d.vec().norm(), std::fabs(d.w()));
+}
+
+double baseAngularVelocityError(const Eigen::Vector3d& w, const ArticulatedReference& ref) {
+  return (w - Eigen::Vector3d(ref.base_w[0], ref.base_w[1], ref.base_w[2])).norm();
 }
 
 }  // namespace articulated

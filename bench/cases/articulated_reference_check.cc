@@ -41,6 +41,15 @@ double maxDiff(const std::vector<long double>& a, const std::vector<long double>
   return e;
 }
 
+// Angle between two base orientations (rad); 0 for a fixed base.
+double baseDiff(const ReferenceRun& a, const ReferenceRun& b) {
+  const Eigen::Matrix3d d = (a.base.R.transpose() * b.base.R).cast<double>();
+  const double c = std::max(-1.0, std::min(1.0, 0.5 * (d.trace() - 1)));
+  // acos loses digits near 0: use the skew part as well.
+  const Eigen::Vector3d s(d(2, 1) - d(1, 2), d(0, 2) - d(2, 0), d(1, 0) - d(0, 1));
+  return std::atan2(0.5 * s.norm(), c);
+}
+
 #ifdef CGA_HAVE_URDFDOM
 // Largest deviation between the case and the URDF file; prints what differs.
 double compareWithUrdf(const ArticulatedCase& c) {
@@ -59,6 +68,20 @@ double compareWithUrdf(const ArticulatedCase& c) {
     if (d > 1e-15) std::printf("  urdf: %s differs: case %.17g, urdf %.17g\n", what.c_str(), a, b);
     worst = std::max(worst, d);
   };
+  if (c.base.floating) {
+    urdf::LinkConstSharedPtr ub = model->getLink(c.base.link);
+    if (!ub || !ub->inertial || model->getRoot() != ub) {
+      std::printf("  urdf: base link %s missing or not the root\n", c.base.link.c_str());
+      return INFINITY;
+    }
+    check("base mass", c.base.mass, ub->inertial->mass);
+    check("base com.x", c.base.com[0], ub->inertial->origin.position.x);
+    check("base com.y", c.base.com[1], ub->inertial->origin.position.y);
+    check("base com.z", c.base.com[2], ub->inertial->origin.position.z);
+    check("base ixx", c.base.inertia_diag[0], ub->inertial->ixx);
+    check("base iyy", c.base.inertia_diag[1], ub->inertial->iyy);
+    check("base izz", c.base.inertia_diag[2], ub->inertial->izz);
+  }
   for (int i = 0; i < c.n(); ++i) {
     const JointSpec& j = c.joints[i];
     urdf::JointConstSharedPtr uj = model->getJoint(j.joint);
@@ -151,6 +174,11 @@ int main(int argc, char** argv) {
                 maxDiff(r1.q, r2.q, true), maxDiff(r1.qd, r2.qd, false));
     std::printf("  |q(h) - q(h/2)|max  = %.3e rad   |qd(h) - qd(h/2)|max  = %.3e rad/s\n",
                 maxDiff(r1.q, rh.q, true), maxDiff(r1.qd, rh.qd, false));
+    if (c.base.floating)
+      std::printf(
+          "  base orientation: h vs 2h %.3e rad, h vs h/2 %.3e rad; |w_b(h) - w_b(h/2)| = %.3e "
+          "rad/s\n",
+          baseDiff(r1, r2), baseDiff(r1, rh), double((r1.base.w - rh.base.w).norm()));
     if (c.name == "double_pendulum") {
       const ReferenceRun rl = integrateReference(c, h, Rhs::kLagrangeDoublePendulum);
       std::printf("  |q(generic) - q(Lagrange)|max = %.3e rad   qd: %.3e rad/s (same h)\n",

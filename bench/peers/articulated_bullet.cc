@@ -3,7 +3,9 @@
 //
 // Model: a btMultiBody (Featherstone, reduced coordinates) built in code from the case
 // (bench/cases/articulated_cases.h). Fixed base at the world origin (its mass 1 and inertia
-// (1, 1, 1) never enter: a fixed base does not move); per link setupRevolute with the link's
+// (1, 1, 1) never enter: a fixed base does not move), or a floating base with the case's mass
+// and inertia (its CoM at its origin) and the initial setBaseVel/setBaseOmega (world); per link
+// setupRevolute with the link's
 // mass and diagonal inertia, parent index, rotParentToThis = the inverse of the joint origin
 // rotation (Bullet's argument rotates parent-frame coordinates into the link frame), the axis
 // in the link frame, parentComToThisPivotOffset = joint origin - parent's CoM (parent frame; the
@@ -28,6 +30,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "articulated_common.h"
@@ -49,10 +52,16 @@ class BulletArticulated : public bench::articulated::ArticulatedSim {
     world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(),
                                                         solver_.get(), config_.get());
     world_->setGravity(bt(c.gravity));
-    mb_ = std::make_unique<btMultiBody>(c.n(), 1.0, btVector3(1, 1, 1), true, false);
-    btTransform base;
-    base.setIdentity();
-    mb_->setBaseWorldTransform(base);
+    const bool fl = c.base.floating;
+    // Bullet's base frame is its CoM frame: a floating base must have its CoM at its origin.
+    if (fl && (c.base.com[0] != 0 || c.base.com[1] != 0 || c.base.com[2] != 0))
+      throw std::runtime_error("bullet runner: floating base with its CoM off its origin");
+    mb_ = std::make_unique<btMultiBody>(c.n(), fl ? c.base.mass : 1.0,
+                                        fl ? bt(c.base.inertia_diag) : btVector3(1, 1, 1), !fl,
+                                        false);
+    btTransform base_pose;
+    base_pose.setIdentity();
+    mb_->setBaseWorldTransform(base_pose);
     for (int i = 0; i < c.n(); ++i) {
       const JointSpec& j = c.joints[i];
       Eigen::Matrix3d R;
@@ -76,6 +85,11 @@ class BulletArticulated : public bench::articulated::ArticulatedSim {
       mb_->setJointPos(i, c.q0[i]);
       mb_->setJointVel(i, c.qd0[i]);
     }
+    if (fl) {
+      mb_->setBaseVel(bt(c.base.v0));
+      mb_->setBaseOmega(bt(c.base.w0));
+    }
+    floating_ = fl;
     world_->addMultiBody(mb_.get());
   }
   ~BulletArticulated() override { world_->removeMultiBody(mb_.get()); }
@@ -92,8 +106,22 @@ class BulletArticulated : public bench::articulated::ArticulatedSim {
       (*qd)[i] = mb_->getJointVel(i);
     }
   }
+  bool base(bench::articulated::BaseState<double>* b) override {
+    if (!floating_) return false;
+    const btTransform t = mb_->getBaseWorldTransform();
+    const btMatrix3x3& R = t.getBasis();
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s) b->R(r, s) = R[r][s];
+    for (int i = 0; i < 3; ++i) {
+      b->p(i) = t.getOrigin()[i];
+      b->w(i) = mb_->getBaseOmega()[i];
+      b->v(i) = mb_->getBaseVel()[i];
+    }
+    return true;
+  }
 
  private:
+  bool floating_ = false;
   double h_;
   std::unique_ptr<btDefaultCollisionConfiguration> config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;

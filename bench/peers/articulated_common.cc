@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "articulated_reference.h"
 #include "sweep_util.h"
@@ -35,7 +36,7 @@ void usage(const char* program, const std::string& engine) {
       "usage: %s [options]\n"
       "  --out DIR          output directory (default %s)\n"
       "  --csv PATH         CSV file (default DIR/articulated_%s.csv)\n"
-      "  --cases a,b        only these cases (double_pendulum, arm7)\n"
+      "  --cases a,b        only these cases (double_pendulum, arm7, satellite)\n"
       "  --configs a,b      only these configs (default: the default-sweep ones)\n"
       "  --all-configs      all configs, including those left out of the default sweep\n"
       "  --hs 1e-3,1e-4     step sizes (default 1e-2 ... 1e-5, 10 values)\n"
@@ -224,26 +225,35 @@ int runArticulatedSweep(const std::string& engine, const std::string& version,
               std::unique_ptr<ArticulatedSim> sim = cfg.make(c, h);
               const EnergyMeter<double> energy_of(c);
               std::vector<double> q, qd;
+              BaseState<double> base;
               double drift = 0;
               int blew = 0;
               for (long k = 1; k <= N; ++k) {
                 sim->step(1);
                 sim->joints(&q, &qd);
-                if (badState(q, qd) || sim->failed()) {
+                if (c.base.floating && !sim->base(&base))
+                  throw std::runtime_error("the runner reports no floating base");
+                if (badState(q, qd) || !base.R.allFinite() || !base.w.allFinite() ||
+                    !base.v.allFinite() || base.w.norm() > kMaxJointSpeed || sim->failed()) {
                   blew = 1;
                   break;
                 }
                 double E = 0;
-                if (!sim->bodyEnergy(&E)) E = energy_of(q.data(), qd.data());
+                if (!sim->bodyEnergy(&E)) E = energy_of(base, q.data(), qd.data());
                 drift = std::max(drift, std::fabs(E - ref.E0) / std::fabs(ref.E0));
               }
               std::ostringstream os;
               os.precision(17);
-              if (blew)
+              if (blew) {
                 os << inf << " " << inf << " " << inf << " 1\n";
-              else
-                os << jointPositionError(q, ref) << " " << jointVelocityError(qd, ref) << " "
-                   << drift << " 0\n";
+              } else {
+                double eq = jointPositionError(q, ref), eqd = jointVelocityError(qd, ref);
+                if (c.base.floating) {
+                  eq = std::max(eq, baseOrientationError(base.R, ref));
+                  eqd = std::max(eqd, baseAngularVelocityError(base.w, ref));
+                }
+                os << eq << " " << eqd << " " << drift << " 0\n";
+              }
               os << sim->events() << "\n";
               return os.str();
             },

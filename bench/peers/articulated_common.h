@@ -10,10 +10,12 @@
 //     the same runs.
 //   * the errors come from a separate complete run to T that reads the joint state after every
 //     step: err_q_rad = max over the joints of |q(T) - q_ref(T)| (angles wrapped to (-pi, pi]),
-//     err_qd = the same for the joint velocities (rad/s), energy_drift_rel = max over all steps
-//     of |E(t) - E(0)| / E(0), E = kinetic + potential measured from q = 0 (articulated_cases.h),
-//     E(0) the exact initial energy. The run stops at a blow-up: a non-finite state, a joint
-//     speed above 1e3 rad/s, or an engine-reported failure; its errors are then inf.
+//     err_qd = the same for the joint velocities (rad/s); with a floating base also its
+//     orientation error (angle, rad) and |w_b - w_b,ref| enter the maxima; energy_drift_rel = max
+//     over all steps of |E(t) - E(0)| / E(0), E = kinetic + potential measured from q = 0
+//     (articulated_cases.h), E(0) the exact initial energy. The run stops at a blow-up: a
+//     non-finite state, a joint speed above 1e3 rad/s, or an engine-reported failure; its errors
+//     are then inf.
 //   * every run executes in a forked child, so an engine abort loses only that run.
 #pragma once
 
@@ -33,6 +35,9 @@ class ArticulatedSim {
   virtual void step(long n) = 0;
   // Joint positions (rad, the engine's own coordinate or angle) and velocities, case order.
   virtual void joints(std::vector<double>* q, std::vector<double>* qd) = 0;
+  // A floating base's state (world frame; v = velocity of the base frame origin). Runners of
+  // floating-base cases must override it; false: the engine has no floating base here.
+  virtual bool base(BaseState<double>* /*b*/) { return false; }
   // Engines in maximal coordinates override this with the energy of their bodies' state
   // (EnergyMeter::fromBodies): it then is what they conserve or not, not a projection of it.
   virtual bool bodyEnergy(double* /*E*/) { return false; }

@@ -6,8 +6,9 @@
 // link frame is the joint frame at q = 0), axis = the case's axis; BodyNode inertia
 // Inertia(mass, CoM, diag moments about the CoM), no shape nodes (nothing can collide);
 // joint damping, spring stiffness, Coulomb friction and armature 0 and position limits not
-// enforced (DART's defaults). World gravity = the case's; positions and velocities (q0, qd0)
-// set on the skeleton.
+// enforced (DART's defaults). A floating base is a FreeJoint + BodyNode at the root (its
+// velocity (w, v) in body coordinates, = world axes at the identity start). World gravity =
+// the case's; positions and velocities (q0, qd0) set on the skeleton.
 //
 // Config: world_step, dart::simulation::World::step(): semi-implicit Euler on the generalised
 // coordinates (articulated-body forward dynamics, then q += h qd_new), with its (here idle)
@@ -15,6 +16,7 @@
 // (peers/README.md, dart_runner.cc).
 #include <dart/config.hpp>
 #include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/FreeJoint.hpp>
 #include <dart/dynamics/Inertia.hpp>
 #include <dart/dynamics/RevoluteJoint.hpp>
 #include <dart/dynamics/Skeleton.hpp>
@@ -34,6 +36,19 @@ class DartArticulated : public bench::articulated::ArticulatedSim {
   DartArticulated(const ArticulatedCase& c, double h) {
     skel_ = dart::dynamics::Skeleton::create(c.name);
     std::vector<dart::dynamics::BodyNode*> bodies;
+    dart::dynamics::BodyNode* base = nullptr;
+    if (c.base.floating) {
+      auto pair = skel_->createJointAndBodyNodePair<dart::dynamics::FreeJoint>(
+          nullptr, dart::dynamics::FreeJoint::Properties(),
+          dart::dynamics::BodyNode::AspectProperties(c.base.link));
+      const auto& b = c.base;
+      const Eigen::Matrix3d I =
+          Eigen::Vector3d(b.inertia_diag[0], b.inertia_diag[1], b.inertia_diag[2]).asDiagonal();
+      pair.second->setInertia(
+          dart::dynamics::Inertia(b.mass, Eigen::Vector3d(b.com[0], b.com[1], b.com[2]), I));
+      base = pair.second;
+      base_joint_ = pair.first;
+    }
     for (int i = 0; i < c.n(); ++i) {
       const JointSpec& j = c.joints[i];
       dart::dynamics::RevoluteJoint::Properties jp;
@@ -46,7 +61,7 @@ class DartArticulated : public bench::articulated::ArticulatedSim {
       jp.mT_ParentBodyToJoint = T;
       jp.mT_ChildBodyToJoint = Eigen::Isometry3d::Identity();
       jp.mAxis = Eigen::Vector3d(j.axis[0], j.axis[1], j.axis[2]);
-      dart::dynamics::BodyNode* parent = j.parent >= 0 ? bodies[j.parent] : nullptr;
+      dart::dynamics::BodyNode* parent = j.parent >= 0 ? bodies[j.parent] : base;
       auto pair = skel_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(
           parent, jp, dart::dynamics::BodyNode::AspectProperties(j.link));
       const Eigen::Matrix3d I =
@@ -59,6 +74,13 @@ class DartArticulated : public bench::articulated::ArticulatedSim {
     for (int i = 0; i < c.n(); ++i) {
       dofs_[i]->setPosition(c.q0[i]);
       dofs_[i]->setVelocity(c.qd0[i]);
+    }
+    if (base_joint_) {
+      // FreeJoint velocity = (w, v) of the body in body coordinates: world axes at the identity.
+      Eigen::Vector6d V;
+      V << c.base.w0[0], c.base.w0[1], c.base.w0[2], c.base.v0[0], c.base.v0[1], c.base.v0[2];
+      base_joint_->setVelocities(V);
+      base_body_ = base;
     }
     world_ = dart::simulation::World::create();
     world_->setGravity(Eigen::Vector3d(c.gravity[0], c.gravity[1], c.gravity[2]));
@@ -76,8 +98,19 @@ class DartArticulated : public bench::articulated::ArticulatedSim {
       (*qd)[i] = dofs_[i]->getVelocity();
     }
   }
+  bool base(bench::articulated::BaseState<double>* b) override {
+    if (!base_body_) return false;
+    const Eigen::Isometry3d& T = base_body_->getWorldTransform();
+    b->R = T.linear();
+    b->p = T.translation();
+    b->w = base_body_->getAngularVelocity();
+    b->v = base_body_->getLinearVelocity();
+    return true;
+  }
 
  private:
+  dart::dynamics::FreeJoint* base_joint_ = nullptr;
+  dart::dynamics::BodyNode* base_body_ = nullptr;
   dart::dynamics::SkeletonPtr skel_;
   dart::simulation::WorldPtr world_;
   std::vector<dart::dynamics::DegreeOfFreedom*> dofs_;

@@ -7,7 +7,9 @@
 // diaginertia> (body axes = link axes), no geoms; joint damping, armature, frictionloss and
 // stiffness 0 (MuJoCo's defaults), no limits (limited="false"), contacts disabled
 // (<flag contact="disable"/>), the case's gravity. qpos of a hinge = the joint angle from the
-// model pose, qvel its rate, which are set to (q0, qd0) before mj_forward.
+// model pose, qvel its rate, which are set to (q0, qd0) before mj_forward. A floating base is a
+// body with a <freejoint/> at the identity pose holding the root joints' bodies; its qvel is
+// (v_b in world axes, w_b in body axes = world axes at t = 0).
 //
 // Configs: every integrator of 2.2.2: Euler (semi-implicit, the default), RK4, implicit
 // (implicit in the velocity-dependent forces; "implicitfast" came with 2.3).
@@ -65,8 +67,21 @@ std::string modelXml(const ArticulatedCase& c, double h) {
   x += fmt("  <option timestep=\"%.17g\" gravity=\"%.17g %.17g %.17g\">\n", h, c.gravity[0],
            c.gravity[1], c.gravity[2]);
   x += "    <flag contact=\"disable\"/>\n  </option>\n  <worldbody>\n";
+  int depth = 2;
+  if (c.base.floating) {  // the base: a body with a free joint, at the identity pose
+    const auto& b = c.base;
+    x += fmt("    <body name=\"%s\" pos=\"0 0 0\">\n      <freejoint name=\"base_free\"/>\n",
+             b.link.c_str());
+    x +=
+        fmt("      <inertial pos=\"%.17g %.17g %.17g\" mass=\"%.17g\" diaginertia=\"%.17g %.17g "
+            "%.17g\"/>\n",
+            b.com[0], b.com[1], b.com[2], b.mass, b.inertia_diag[0], b.inertia_diag[1],
+            b.inertia_diag[2]);
+    depth = 3;
+  }
   for (int k = 0; k < c.n(); ++k)
-    if (c.joints[k].parent < 0) bodyXml(c, k, 2, &x);
+    if (c.joints[k].parent < 0) bodyXml(c, k, depth, &x);
+  if (c.base.floating) x += "    </body>\n";
   x += "  </worldbody>\n</mujoco>\n";
   return x;
 }
@@ -83,6 +98,17 @@ class MujocoArticulated : public bench::articulated::ArticulatedSim {
       vadr_.push_back(m_->jnt_dofadr[jid]);
       d_->qpos[qadr_.back()] = c.q0[i];
       d_->qvel[vadr_.back()] = c.qd0[i];
+    }
+    if (c.base.floating) {
+      // Free joint: qpos = (x, y, z, qw, qx, qy, qz), qvel = (v world, w in body axes); the base
+      // starts at the identity, so body axes = world axes.
+      const int jid = mj_name2id(m_, mjOBJ_JOINT, "base_free");
+      base_q_ = m_->jnt_qposadr[jid];
+      base_v_ = m_->jnt_dofadr[jid];
+      for (int i = 0; i < 3; ++i) {
+        d_->qvel[base_v_ + i] = c.base.v0[i];
+        d_->qvel[base_v_ + 3 + i] = c.base.w0[i];
+      }
     }
     mj_forward(m_, d_);
   }
@@ -101,6 +127,17 @@ class MujocoArticulated : public bench::articulated::ArticulatedSim {
       (*qd)[i] = d_->qvel[vadr_[i]];
     }
   }
+  bool base(bench::articulated::BaseState<double>* b) override {
+    if (base_q_ < 0) return false;
+    const mjtNum* q = d_->qpos + base_q_;
+    const mjtNum* v = d_->qvel + base_v_;
+    const Eigen::Quaterniond quat(q[3], q[4], q[5], q[6]);
+    b->R = quat.normalized().toRotationMatrix();
+    b->p = Eigen::Vector3d(q[0], q[1], q[2]);
+    b->v = Eigen::Vector3d(v[0], v[1], v[2]);
+    b->w = b->R * Eigen::Vector3d(v[3], v[4], v[5]);
+    return true;
+  }
   bool failed() override { return d_->warning[mjWARN_BADQACC].number > 0; }
   std::string events() override { return failed() ? "BADQACC (MuJoCo reset the state)" : ""; }
 
@@ -108,6 +145,7 @@ class MujocoArticulated : public bench::articulated::ArticulatedSim {
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
   std::vector<int> qadr_, vadr_;
+  int base_q_ = -1, base_v_ = -1;
 };
 
 void quietWarning(const char*) {}

@@ -1,6 +1,7 @@
 // ODE articulated runner (Debian libode-dev 0.16.2, double precision): peer_articulated_ode.
 //
 // Model: maximal coordinates, built in code from the case (bench/cases/articulated_cases.h):
+// a floating base is a free dBody (at its CoM, identity rotation, the case's velocities), and
 // one dBody per link (position = the link's CoM, rotation = the link's axes, dMass with the
 // link's mass and diagonal inertia, no geoms), one hinge joint per revolute joint
 // (dJointAttach(link, parent link or the static world)). The joints are created with the
@@ -55,6 +56,20 @@ class OdeArticulated : public bench::articulated::ArticulatedSim {
     std::vector<double> zero(n, 0.0);
     const Kinematics<double> k0 =
         bench::articulated::kinematics<double>(c, zero.data(), zero.data());
+    if (c.base.floating) {  // the base body first, at the identity
+      const auto& b = c.base;
+      base_ = dBodyCreate(world_);
+      dMass m;
+      dMassSetParameters(&m, b.mass, 0, 0, 0, b.inertia_diag[0], b.inertia_diag[1],
+                         b.inertia_diag[2], 0, 0, 0);
+      dBodySetMass(base_, &m);
+      dBodySetAutoDisableFlag(base_, 0);
+      dBodySetLinearDamping(base_, 0);
+      dBodySetAngularDamping(base_, 0);
+      dBodySetMaxAngularSpeed(base_, dInfinity);
+      dBodySetPosition(base_, b.com[0], b.com[1], b.com[2]);
+      base_com_ = Eigen::Vector3d(b.com[0], b.com[1], b.com[2]);
+    }
     for (int i = 0; i < n; ++i) {
       const JointSpec& j = c.joints[i];
       dBodyID b = dBodyCreate(world_);
@@ -72,13 +87,17 @@ class OdeArticulated : public bench::articulated::ArticulatedSim {
     }
     for (int i = 0; i < n; ++i) {
       dJointID jt = dJointCreateHinge(world_, nullptr);
-      dJointAttach(jt, bodies_[i], c.joints[i].parent >= 0 ? bodies_[c.joints[i].parent] : nullptr);
+      dJointAttach(jt, bodies_[i], c.joints[i].parent >= 0 ? bodies_[c.joints[i].parent] : base_);
       dJointSetHingeAnchor(jt, k0.x[i].x(), k0.x[i].y(), k0.x[i].z());
       dJointSetHingeAxis(jt, k0.z[i].x(), k0.z[i].y(), k0.z[i].z());
       joints_.push_back(jt);
     }
-    const Kinematics<double> k =
-        bench::articulated::kinematics<double>(c, c.q0.data(), c.qd0.data());
+    const Kinematics<double> k = bench::articulated::kinematics<double>(
+        c, bench::articulated::initialBase<double>(c), c.q0.data(), c.qd0.data());
+    if (base_) {
+      dBodySetLinearVel(base_, k.base_vc.x(), k.base_vc.y(), k.base_vc.z());
+      dBodySetAngularVel(base_, k.base.w.x(), k.base.w.y(), k.base.w.z());
+    }
     for (int i = 0; i < n; ++i) {
       dBodySetPosition(bodies_[i], k.c[i].x(), k.c[i].y(), k.c[i].z());
       setRotation(bodies_[i], k.R[i]);
@@ -111,15 +130,32 @@ class OdeArticulated : public bench::articulated::ArticulatedSim {
       if (std::isfinite(gap) && gap > max_gap_) max_gap_ = gap;
     }
   }
+  bool base(bench::articulated::BaseState<double>* b) override {
+    if (!base_) return false;
+    const dReal* p = dBodyGetPosition(base_);
+    const dReal* v = dBodyGetLinearVel(base_);
+    const dReal* av = dBodyGetAngularVel(base_);
+    const dReal* m = dBodyGetRotation(base_);
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s) b->R(r, s) = m[4 * r + s];
+    b->w = Eigen::Vector3d(av[0], av[1], av[2]);
+    const Eigen::Vector3d rc = b->R * base_com_;
+    b->p = Eigen::Vector3d(p[0], p[1], p[2]) - rc;
+    b->v = Eigen::Vector3d(v[0], v[1], v[2]) - b->w.cross(rc);
+    return true;
+  }
   bool bodyEnergy(double* E) override {
-    const size_t n = bodies_.size();
+    std::vector<dBodyID> all;
+    if (base_) all.push_back(base_);
+    all.insert(all.end(), bodies_.begin(), bodies_.end());
+    const size_t n = all.size();
     std::vector<Eigen::Vector3d> com(n), vcom(n), w(n);
     std::vector<Eigen::Matrix3d> R(n);
     for (size_t i = 0; i < n; ++i) {
-      const dReal* p = dBodyGetPosition(bodies_[i]);
-      const dReal* v = dBodyGetLinearVel(bodies_[i]);
-      const dReal* av = dBodyGetAngularVel(bodies_[i]);
-      const dReal* m = dBodyGetRotation(bodies_[i]);
+      const dReal* p = dBodyGetPosition(all[i]);
+      const dReal* v = dBodyGetLinearVel(all[i]);
+      const dReal* av = dBodyGetAngularVel(all[i]);
+      const dReal* m = dBodyGetRotation(all[i]);
       com[i] = Eigen::Vector3d(p[0], p[1], p[2]);
       vcom[i] = Eigen::Vector3d(v[0], v[1], v[2]);
       w[i] = Eigen::Vector3d(av[0], av[1], av[2]);
@@ -141,6 +177,8 @@ class OdeArticulated : public bench::articulated::ArticulatedSim {
   EnergyMeter<double> energy_;
   dWorldID world_;
   std::vector<dBodyID> bodies_;
+  dBodyID base_ = nullptr;  // floating base
+  Eigen::Vector3d base_com_ = Eigen::Vector3d::Zero();
   std::vector<dJointID> joints_;
   double max_gap_ = 0;
 };

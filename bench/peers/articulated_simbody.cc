@@ -6,8 +6,10 @@
 // root joint), outboard frame M = (A, 0) in the link, where A is a rotation taking z to the
 // case's joint axis; so at q = 0 the link frame is the joint frame and q turns it about the
 // axis, as in the case. Body::Rigid(MassProperties(m, CoM, Inertia(diag) shifted from the CoM to
-// the link origin)). Force::UniformGravity with the case's gravity; no damping, no contact, no
-// limits. q, u set to (q0, qd0) (a Pin's q is its angle, u its rate).
+// the link origin)). A floating base is a MobilizedBody::Free on Ground (quaternion, Simbody's
+// default) at the identity with the case's velocities. Force::UniformGravity with the case's
+// gravity; no damping, no contact, no limits. q, u set to (q0, qd0) (a Pin's q is its angle, u
+// its rate).
 //
 // Integrators (as in simbody_runner.cc): setFixedStepSize(h), setAllowInterpolation(false),
 // default accuracy; one stepTo(t + n h) per run(n). SemiExplicitEuler, Verlet, RungeKutta3,
@@ -54,6 +56,15 @@ class SimbodyArticulated : public bench::articulated::ArticulatedSim {
     SimTK::Force::UniformGravity(forces_, matter_,
                                  SimTK::Vec3(c.gravity[0], c.gravity[1], c.gravity[2]), 0);
     std::vector<SimTK::MobilizedBody> parents;
+    if (c.base.floating) {
+      const auto& b = c.base;
+      const SimTK::Vec3 com(b.com[0], b.com[1], b.com[2]);
+      const SimTK::Inertia Ic(b.inertia_diag[0], b.inertia_diag[1], b.inertia_diag[2]);
+      const SimTK::Body::Rigid body(
+          SimTK::MassProperties(b.mass, com, Ic.shiftFromMassCenter(com, b.mass)));
+      base_ = SimTK::MobilizedBody::Free(matter_.updGround(), SimTK::Transform(), body,
+                                         SimTK::Transform());
+    }
     for (int i = 0; i < c.n(); ++i) {
       const JointSpec& j = c.joints[i];
       const SimTK::Vec3 axis(j.axis[0], j.axis[1], j.axis[2]);
@@ -67,7 +78,10 @@ class SimbodyArticulated : public bench::articulated::ArticulatedSim {
       // MassProperties wants the inertia about the body origin.
       const SimTK::Body::Rigid body(
           SimTK::MassProperties(j.mass, com, Ic.shiftFromMassCenter(com, j.mass)));
-      SimTK::MobilizedBody& parent = j.parent >= 0 ? parents[j.parent] : matter_.updGround();
+      SimTK::MobilizedBody& parent =
+          j.parent >= 0
+              ? parents[j.parent]
+              : (c.base.floating ? static_cast<SimTK::MobilizedBody&>(base_) : matter_.updGround());
       SimTK::MobilizedBody::Pin pin(
           parent,
           SimTK::Transform(RF, SimTK::Vec3(j.origin_xyz[0], j.origin_xyz[1], j.origin_xyz[2])),
@@ -79,6 +93,12 @@ class SimbodyArticulated : public bench::articulated::ArticulatedSim {
     for (int i = 0; i < c.n(); ++i) {
       pins_[i].setOneQ(s, 0, c.q0[i]);
       pins_[i].setOneU(s, 0, c.qd0[i]);
+    }
+    if (c.base.floating) {
+      floating_ = true;
+      base_.setQToFitTransform(s, SimTK::Transform());
+      base_.setUToFitAngularVelocity(s, SimTK::Vec3(c.base.w0[0], c.base.w0[1], c.base.w0[2]));
+      base_.setUToFitLinearVelocity(s, SimTK::Vec3(c.base.v0[0], c.base.v0[1], c.base.v0[2]));
     }
     switch (method) {
       case Method::ExplicitEuler:
@@ -133,6 +153,22 @@ class SimbodyArticulated : public bench::articulated::ArticulatedSim {
       (*qd)[i] = pins_[i].getOneU(s, 0);
     }
   }
+  bool base(bench::articulated::BaseState<double>* b) override {
+    if (!floating_) return false;
+    const SimTK::State& s = integ_->getState();
+    system_.realize(s, SimTK::Stage::Velocity);
+    const SimTK::Rotation& R = base_.getBodyRotation(s);
+    const SimTK::Vec3& p = base_.getBodyOriginLocation(s);
+    const SimTK::Vec3& w = base_.getBodyAngularVelocity(s);
+    const SimTK::Vec3& v = base_.getBodyOriginVelocity(s);
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) b->R(r, k) = R[r][k];
+      b->p(r) = p[r];
+      b->w(r) = w[r];
+      b->v(r) = v[r];
+    }
+    return true;
+  }
   std::string events() override {
     return "steps taken " + std::to_string(integ_->getNumStepsTaken()) + " attempted " +
            std::to_string(integ_->getNumStepsAttempted());
@@ -143,6 +179,8 @@ class SimbodyArticulated : public bench::articulated::ArticulatedSim {
   SimTK::SimbodyMatterSubsystem matter_;
   SimTK::GeneralForceSubsystem forces_;
   std::vector<SimTK::MobilizedBody::Pin> pins_;
+  SimTK::MobilizedBody::Free base_;
+  bool floating_ = false;
   std::unique_ptr<SimTK::Integrator> integ_;
   double h_;
   long done_ = 0;

@@ -37,8 +37,8 @@ ap.add_argument("--plot", nargs="?", const=os.path.join(root, "doc", "img", "art
 args = ap.parse_args()
 
 OURS = report.OURS
-CASES = ["double_pendulum", "arm7"]
-T_OF = {"double_pendulum": 10, "arm7": 2}
+CASES = ["double_pendulum", "arm7", "satellite"]
+T_OF = {"double_pendulum": 10, "arm7": 2, "satellite": 10}
 
 
 def num(s):
