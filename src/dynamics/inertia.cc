@@ -34,8 +34,8 @@ Error refuse(const std::string& body, const std::string& rule) {
 // A tensor that is already diagonal is sorted by an exact permutation, so a diagonal URDF
 // inertia reaches the integrators without the eigen-solver's round-off.
 void diagonalise(const Eigen::Matrix3d& J, Eigen::Vector3d* moments, Eigen::Matrix3d* axes) {
-  const bool diagonal = J(0, 1) == 0 && J(0, 2) == 0 && J(1, 2) == 0 && J(1, 0) == 0 &&
-                        J(2, 0) == 0 && J(2, 1) == 0;
+  const bool diagonal =
+      J(0, 1) == 0 && J(0, 2) == 0 && J(1, 2) == 0 && J(1, 0) == 0 && J(2, 0) == 0 && J(2, 1) == 0;
   if (diagonal) {
     std::array<int, 3> idx = {0, 1, 2};
     std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) { return J(a, a) < J(b, b); });
@@ -58,7 +58,8 @@ Result<Inertia> Inertia::fromTensor(const std::string& body, double mass,
                                     std::string* warning) {
   std::ostringstream os;
   os.precision(17);
-  if (!std::isfinite(mass)) return refuse(body, "mass must be finite (got " + std::to_string(mass) + ")");
+  if (!std::isfinite(mass))
+    return refuse(body, "mass must be finite (got " + std::to_string(mass) + ")");
   if (mass <= 0) {
     os << "mass must be > 0 (got " << mass << ")";
     return refuse(body, os.str());
@@ -95,8 +96,8 @@ Result<Inertia> Inertia::fromTensor(const std::string& body, double mass,
     if (warning) {
       std::ostringstream w;
       w.precision(17);
-      w << "body '" << body << "': " << os.str() << "; using the nearest physical moments "
-        << m[0] << ", " << m[1] << ", " << m[2];
+      w << "body '" << body << "': " << os.str() << "; using the nearest physical moments " << m[0]
+        << ", " << m[1] << ", " << m[2];
       *warning = w.str();
     }
     std::array<int, 3> idx = {0, 1, 2};  // the projection can reorder the moments

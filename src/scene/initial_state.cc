@@ -5,11 +5,19 @@
 // LinkFrame). So M_WB = M_WR M_BR⁻¹. Velocities are given in world or root link axes and stored
 // as the body bivelocity Ω_B = (w_B, v_B/λ) with w_B = R_WBᵀ w_W, v_B = R_WBᵀ v_W
 // (doc/conventions.md (E6)).
+//
+// Joints (joint.h): an entry under a joint's name sets its initial position q0 (clamped into
+// the limits, with a warning) and velocity q̇0. The joints' child bodies are not given poses of
+// their own: after every entry is applied, each one is placed from its parent down the tree,
+// M_WBc = M_WBp M_PJ exp(−½ q0 S) M_JC (placeJointChildren), so a body entry that moves the free
+// root of a tree moves the whole tree.
 #include "cga_rigid_sim/scene/initial_state.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
+#include <vector>
 
 #include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/scene/placement.h"
@@ -28,11 +36,19 @@ const char* const kKeys[] = {"position",
                              "linear_velocity_body",
                              "angular_velocity_body"};
 
+const char* const kJointKeys[] = {"position", "velocity"};
+
 std::string allowedKeys() {
   std::string s;
   for (const char* k : kKeys) s += (s.empty() ? "" : ", ") + std::string(k);
   return s;
 }
+
+std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+
+// "rad" or "m" for a joint position; "rad/s" or "m/s" for its velocity.
+const char* positionUnit(JointType t) { return t == JointType::kPrismatic ? "m" : "rad"; }
+const char* velocityUnit(JointType t) { return t == JointType::kPrismatic ? "m/s" : "rad/s"; }
 
 constexpr int kDigits = 10;  // significant digits of numbers in messages
 
@@ -58,7 +74,73 @@ Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::strin
   return out;
 }
 
+// The joint's own motion exp(−½ q S): S = (axis, 0) for a revolute or continuous joint (a turn
+// by q about the axis, (E3)), S = (0, axis/λ) for a prismatic one (a shift by q along it, (E2)).
+cga::Motor jointMotion(const JointModel& j, double q, double lambda) {
+  const cga::Bivelocity S = j.type == JointType::kPrismatic
+                                ? cga::Bivelocity(Eigen::Vector3d::Zero(), j.axis / lambda)
+                                : cga::Bivelocity(j.axis, Eigen::Vector3d::Zero());
+  return cga::exp(S * (-0.5 * q));
+}
+
+// One joint's entry {position: q, velocity: v}, `where` = "<source>: initial_state.<joint>".
+// Writes the new q0 (clamped into the limits) and q̇0 and, when q had to be clamped, a warning.
+std::optional<Error> readJointEntry(const JointModel& j, const ParamValue& entry,
+                                    const std::string& where, double* q0, double* v0,
+                                    std::vector<std::string>* warnings) {
+  const std::string joint = "joint " + inQuotes(j.name);
+  if (!entry.isMap())
+    return Error{where + ": expected a map with keys among position, velocity (" + joint + ", " +
+                 toString(j.type) + "), got a " + entry.typeName()};
+  for (const auto& kv : entry.asMap()) {
+    bool known = false;
+    for (const char* k : kJointKeys) known = known || kv.first == k;
+    if (!known)
+      return Error{where + "." + kv.first + ": unknown key of " + joint +
+                   " (allowed: position in " + positionUnit(j.type) + ", velocity in " +
+                   velocityUnit(j.type) + ")"};
+  }
+  for (const char* key : kJointKeys) {
+    const auto it = entry.asMap().find(key);
+    if (it == entry.asMap().end()) continue;
+    const bool is_position = key[0] == 'p';
+    const std::string at = where + "." + key;
+    if (!it->second.isNumber())
+      return Error{at + ": expected a number (" + joint + ", in " +
+                   (is_position ? positionUnit(j.type) : velocityUnit(j.type)) + "), got a " +
+                   it->second.typeName()};
+    const double x = it->second.asNumber();
+    if (!std::isfinite(x))
+      return Error{at + ": must be finite (got " + formatNumber(x, kDigits) + ")"};
+    if (!is_position) {
+      *v0 = x;
+      continue;
+    }
+    const JointLimits& l = j.limits;
+    *q0 = x;
+    if (l.has_position && (x < l.lower || x > l.upper)) {
+      *q0 = x < l.lower ? l.lower : l.upper;
+      const std::string unit = std::string(" ") + positionUnit(j.type);
+      warnings->push_back(at + ": " + formatNumber(x, kDigits) + unit + " is outside the limits [" +
+                          formatNumber(l.lower, kDigits) + ", " + formatNumber(l.upper, kDigits) +
+                          "]" + unit + " of " + joint + ": clamped to the " +
+                          (x < l.lower ? "lower" : "upper") + " limit " +
+                          formatNumber(*q0, kDigits) + unit);
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+void placeJointChildren(Scene& scene) {
+  for (const JointModel& j : scene.joints) {
+    const cga::Motor M_WP =
+        j.parent_body < 0 ? cga::Motor::identity() : scene.bodies[j.parent_body].M_WB0;
+    scene.bodies[j.child_body].M_WB0 =
+        (M_WP * j.M_PJ * jointMotion(j, j.initial_position, scene.lambda) * j.M_JC).normalized();
+  }
+}
 
 Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
   const std::string prefix = scene.source + ": initial_state";
@@ -67,30 +149,68 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
     return Error{prefix + ": expected a map from body name to its initial state, got a " +
                  initial_state.typeName()};
   const double lambda = scene.lambda;
-  std::unordered_map<std::string, int> index;
+  std::unordered_map<std::string, int> index, joint_index;
   for (std::size_t k = 0; k < scene.bodies.size(); ++k)
     index.emplace(scene.bodies[k].name, static_cast<int>(k));
+  std::vector<int> moved_by(scene.bodies.size(), -1);  // the joint whose child the body is
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    joint_index.emplace(scene.joints[k].name, static_cast<int>(k));
+    moved_by[scene.joints[k].child_body] = static_cast<int>(k);
+  }
 
   struct Update {
     int body;
     dynamics::BodyState state0;
   };
+  struct JointUpdate {
+    int joint;
+    double q0, v0;
+  };
   std::vector<Update> updates;  // applied only when every entry is valid
+  std::vector<JointUpdate> joint_updates;
+  std::vector<std::string> warnings;
   for (const auto& [name, entry] : initial_state.asMap()) {
     const std::string where = prefix + "." + name;
     const auto it = index.find(name);
+    const auto jt = joint_index.find(name);
+    // A name can be a link's (a body's) and a joint's: the joint's unless the body takes an
+    // initial state of its own (a free body), and then the key is ambiguous.
+    const bool body_takes_state =
+        it != index.end() && !scene.bodies[it->second].is_static && moved_by[it->second] < 0;
+    if (jt != joint_index.end() && body_takes_state)
+      return Error{where + ": " + inQuotes(name) +
+                   " names both a free body and a joint; rename one of them in the URDF (link "
+                   "and joint names are separate in URDF, the keys of initial_state are not)"};
+    if (jt != joint_index.end()) {
+      const JointModel& j = scene.joints[jt->second];
+      JointUpdate u{jt->second, j.initial_position, j.initial_velocity};
+      if (auto err = readJointEntry(j, entry, where, &u.q0, &u.v0, &warnings)) return *err;
+      joint_updates.push_back(u);
+      continue;
+    }
     if (it == index.end()) {
       std::string names;
       for (std::size_t k = 0; k < scene.bodies.size() && k < 10; ++k)
         names += (k ? ", " : "") + scene.bodies[k].name;
       if (scene.bodies.size() > 10) names += ", …";
-      return Error{where + ": no body named '" + name + "' (bodies: " + names + ")"};
+      if (scene.joints.empty())
+        return Error{where + ": no body named '" + name + "' (bodies: " + names + ")"};
+      std::string joints;
+      for (std::size_t k = 0; k < scene.joints.size() && k < 10; ++k)
+        joints += (k ? ", " : "") + scene.joints[k].name;
+      if (scene.joints.size() > 10) joints += ", …";
+      return Error{where + ": no body or joint named '" + name + "' (bodies: " + names +
+                   "; joints: " + joints + ")"};
     }
     const BodyModel& body = scene.bodies[it->second];
     if (body.is_static)
       return Error{where + ": body '" + name +
                    "' is static (fixed to the world frame): it never moves and takes no initial "
                    "state"};
+    if (moved_by[it->second] >= 0)
+      return Error{where + ": body '" + name + "' is moved by joint '" +
+                   scene.joints[moved_by[it->second]].name +
+                   "': give the joint's position instead"};
     if (!entry.isMap())
       return Error{where + ": expected a map with keys among " + allowedKeys() + ", got a " +
                    entry.typeName()};
@@ -155,6 +275,12 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
     scene.bodies[u.body].M_WB0 = u.state0.M_WB;
     scene.bodies[u.body].omega_B0 = u.state0.omega_B;
   }
+  for (const JointUpdate& u : joint_updates) {
+    scene.joints[u.joint].initial_position = u.q0;
+    scene.joints[u.joint].initial_velocity = u.v0;
+  }
+  placeJointChildren(scene);
+  scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
   return true;
 }
 

@@ -1,8 +1,10 @@
 #include "cga_rigid_sim/scene/scene_summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "cga_rigid_sim/format.h"
 
@@ -30,6 +32,35 @@ std::string shapeCounts(const BodyModel& body) {
   return os.str();
 }
 
+// One joint on one line: type, parent -> child link, axis, limits, dynamics, initial state.
+std::string jointLine(const JointModel& j) {
+  const bool prismatic = j.type == JointType::kPrismatic;
+  const char* q_unit = prismatic ? " m" : " rad";
+  const char* v_unit = prismatic ? " m/s" : " rad/s";
+  const JointLimits& l = j.limits;
+  std::ostringstream os;
+  os << j.name << ": " << toString(j.type) << ", " << j.parent_link << " -> " << j.child_link
+     << ", axis " << formatVector(j.axis, kDigits);
+  if (l.has_position)
+    os << ", position in [" << formatNumber(l.lower, kDigits) << ", "
+       << formatNumber(l.upper, kDigits) << "]" << q_unit;
+  else
+    os << ", no position limits";
+  if (std::isfinite(l.effort))
+    os << ", |effort| <= " << formatNumber(l.effort, kDigits) << (prismatic ? " N" : " N m");
+  if (std::isfinite(l.velocity))
+    os << ", |velocity| <= " << formatNumber(l.velocity, kDigits) << v_unit;
+  if (j.damping != 0)
+    os << ", damping " << formatNumber(j.damping, kDigits) << (prismatic ? " N s/m" : " N m s/rad");
+  if (j.friction != 0)
+    os << ", friction " << formatNumber(j.friction, kDigits) << (prismatic ? " N" : " N m");
+  if (j.initial_position != 0)
+    os << ", q0 = " << formatNumber(j.initial_position, kDigits) << q_unit;
+  if (j.initial_velocity != 0)
+    os << ", v0 = " << formatNumber(j.initial_velocity, kDigits) << v_unit;
+  return os.str();
+}
+
 }  // namespace
 
 std::string sceneSummary(const Scene& scene, const std::string& integrator) {
@@ -39,8 +70,11 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   for (const auto& b : scene.bodies) moving += b.is_static ? 0 : 1;
   os << "scene '" << scene.robot_name << "' from " << scene.source << ": " << scene.bodies.size()
      << (scene.bodies.size() == 1 ? " body (" : " bodies (") << moving << " moving, "
-     << scene.bodies.size() - moving << " static), integrator '" << integrator
-     << "', lambda = " << formatNumber(scene.lambda, kDigits) << " m\n";
+     << scene.bodies.size() - moving << " static)";
+  if (!scene.joints.empty())
+    os << ", " << scene.joints.size() << (scene.joints.size() == 1 ? " joint" : " joints");
+  os << ", integrator '" << integrator << "', lambda = " << formatNumber(scene.lambda, kDigits)
+     << " m\n";
   const auto& names = summaryIntegratorNames();
   if (std::find(names.begin(), names.end(), integrator) == names.end()) {
     os << "  unknown integrator '" << integrator << "' (known:";
@@ -57,10 +91,20 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
         "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
         "acts)\n";
   os << "bodies:\n";
+  // The bodies of articulated trees (the joints' children and the free roots they hang from)
+  // are stepped with their tree, not by the per-body paths.
+  std::vector<std::string> tree_role(scene.bodies.size());
+  for (const JointModel& j : scene.joints) {
+    tree_role[j.child_body] = "moved by joint " + j.name;
+    if (j.parent_body >= 0 && !scene.bodies[j.parent_body].is_static &&
+        tree_role[j.parent_body].empty())
+      tree_role[j.parent_body] = "free root of the tree of joint " + j.name;
+  }
   std::map<std::string, std::size_t> path_count;
   for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
     const BodyModel& b = scene.bodies[k];
-    const std::string path = plannedIntegratorPath(scene, b, integrator);
+    const bool in_tree = !tree_role[k].empty();
+    const std::string path = in_tree ? "articulated" : plannedIntegratorPath(scene, b, integrator);
     ++path_count[path];
     if (k >= kMaxListed) continue;
     os << "  " << b.name << ": ";
@@ -71,7 +115,10 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
       os << "mass " << formatNumber(I.mass(), kDigits)
          << " kg, J = " << formatVector(I.principalMoments(), kDigits) << " kg m^2, "
          << dynamics::toString(I.inertiaClass()) << ", path " << path;
-      if (integrator == "auto" && path != "at-rest") os << " (torque-free)";
+      if (in_tree)
+        os << " (" << tree_role[k] << ")";
+      else if (integrator == "auto" && path != "at-rest")
+        os << " (torque-free)";
     }
     os << "\n";
     os << "    links:";
@@ -87,6 +134,13 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   }
   if (scene.bodies.size() > kMaxListed)
     os << "  ... and " << scene.bodies.size() - kMaxListed << " more bodies\n";
+  if (!scene.joints.empty()) {
+    os << "joints:\n";
+    for (std::size_t k = 0; k < scene.joints.size() && k < kMaxListed; ++k)
+      os << "  " << jointLine(scene.joints[k]) << "\n";
+    if (scene.joints.size() > kMaxListed)
+      os << "  ... and " << scene.joints.size() - kMaxListed << " more joints\n";
+  }
   os << "paths:";
   for (const auto& [path, n] : path_count) os << " " << path << " x" << n << ";";
   os << "\n";

@@ -6,8 +6,10 @@
 // collision geometry, validated per link, (4) bodies: links joined by fixed joints merge into
 // one body (composite mass, centre of mass, parallel-axis inertia, the links' collision shapes
 // placed in B), floating joints start free bodies, links fixed to the world frame form static
-// bodies, (5) the initial state (initial_state.cc). Any error returns before a Scene exists:
-// never a partial scene.
+// bodies, revolute, continuous and prismatic joints start moving bodies and become
+// Scene::joints (parent first), (5) the joints' default initial positions (0, clamped into the
+// limits) and the child bodies placed by them, then the initial-state dictionary
+// (initial_state.cc). Any error returns before a Scene exists: never a partial scene.
 //
 // Initial-state dictionary (SceneOptions::initial_state; ROS parameter ~initial_state; full
 // text in doc/initial_state.md). A map from body name (= the body's root link name) to a map of
@@ -22,9 +24,12 @@
 //   linear_velocity_body:  [vx, vy, vz]   of the centre of mass, root link axes, m/s
 //   angular_velocity_body: [wx, wy, wz]   root link axes, rad/s
 // (a velocity and its _body variant exclude each other). Keys left out keep the URDF pose and
-// zero velocity. Unknown bodies or keys, static bodies, wrong types or lengths, non-finite
-// numbers are refused with a message naming the body and the key. Example (YAML, as in
-// config/tennis_racket.yaml):
+// zero velocity. A joint's name (revolute, continuous, prismatic) maps to
+//   position: q    rad or m, clamped into the joint's limits with a warning
+//   velocity: q̇    rad/s or m/s
+// (either optional); the bodies a joint moves take no entry of their own. Unknown bodies or keys,
+// static bodies, wrong types or lengths, non-finite numbers are refused with a message naming the
+// body and the key. Example (YAML, as in config/tennis_racket.yaml):
 //   initial_state:
 //     racket_handle:
 //       position: [0.0, 0.0, 1.5]
@@ -89,10 +94,17 @@ class Loader {
     bool massive = false;
     MassProperties in_link;  // link frame
   };
+  // The root link of a body to build. A body started by a revolute, continuous or prismatic
+  // joint also knows that joint, its parent body and the joint frame J in the parent's B.
   struct BodyRoot {
     const urdf::Link* link = nullptr;
+    /// The root link's pose with every joint above it at 0 (the floating bodies below it start
+    /// there).
     Eigen::Isometry3d X_WR = Eigen::Isometry3d::Identity();
     bool is_static = false;
+    const urdf::Joint* joint = nullptr;  ///< the articulated joint that starts the body
+    int parent = -1;                     ///< the parent's index in the roots (−1: the world)
+    Eigen::Isometry3d X_PJ = Eigen::Isometry3d::Identity();  ///< J in B_p (in W for the world)
   };
 
   Error fail(int line, const std::string& what) const {
@@ -110,7 +122,10 @@ class Loader {
   Result<LinkMass> linkMassFromGeometry(
       const std::string& link, const detail::MassFromGeometry& spec,
       const std::vector<detail::CollisionGeometry>& collisions) const;
-  Result<BodyModel> buildBody(const BodyRoot& root, std::vector<BodyRoot>* more_roots);
+  Result<BodyModel> buildBody(const BodyRoot& root, int index, std::vector<BodyRoot>* more_roots);
+  JointModel jointModel(const BodyRoot& root, int index, const BodyModel& child) const;
+  static void orderParentFirst(Scene* scene, const std::vector<int>& document_order);
+  void setDefaultInitialPositions(Scene* scene);
   std::vector<urdf::JointSharedPtr> childJoints(const urdf::Link& link) const;
 
   const std::string& source_;
@@ -165,6 +180,24 @@ std::optional<Error> Loader::crossCheck(const urdf::ModelInterface& model) const
       return fail(it->second.line, "link " + inQuotes(name) +
                                        ": urdfdom read its <collision> elements differently "
                                        "from the loader; refusing rather than guessing");
+  }
+  // The joints: the same names and, for the articulated ones, the same types.
+  if (model.joints_.size() != xml_.joints.size())
+    return fail(0, "urdfdom read " + std::to_string(model.joints_.size()) + " joints, the loader " +
+                       std::to_string(xml_.joints.size()) + "; refusing an ambiguous file");
+  for (const auto& [name, joint] : model.joints_) {
+    const auto it = xml_.joints.find(name);
+    if (it == xml_.joints.end())
+      return fail(0, "urdfdom read a joint " + inQuotes(name) + " the loader did not find");
+    const std::optional<JointType>& ours = it->second.type;
+    const bool same = joint->type == urdf::Joint::REVOLUTE     ? ours == JointType::kRevolute
+                      : joint->type == urdf::Joint::CONTINUOUS ? ours == JointType::kContinuous
+                      : joint->type == urdf::Joint::PRISMATIC  ? ours == JointType::kPrismatic
+                                                               : !ours.has_value();
+    if (!same)
+      return fail(it->second.line, "joint " + inQuotes(name) +
+                                       ": urdfdom read its type differently from the loader; "
+                                       "refusing rather than guessing");
   }
   return std::nullopt;
 }
@@ -308,14 +341,17 @@ std::vector<urdf::JointSharedPtr> Loader::childJoints(const urdf::Link& link) co
   return joints;
 }
 
-// One body: the links reached from its root link through fixed joints. Floating joints met on
-// the way start further bodies (appended to `more_roots`).
-Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>* more_roots) {
+// One body (roots[index]): the links reached from its root link through fixed joints.
+// Floating joints met on the way start further free bodies, revolute, continuous and prismatic
+// joints further moving bodies hinged to this one (appended to `more_roots`).
+Result<BodyModel> Loader::buildBody(const BodyRoot& root, int index,
+                                    std::vector<BodyRoot>* more_roots) {
   const double lambda = options_.lambda;
   BodyModel body;
   body.name = root.link->name;
   body.is_static = root.is_static;
   std::vector<std::pair<const urdf::Link*, Eigen::Isometry3d>> links;  // X_RL
+  std::vector<BodyRoot> hinged;  // X_PJ holds X_RJ until B is known
   std::vector<std::pair<const urdf::Link*, Eigen::Isometry3d>> stack{
       {root.link, Eigen::Isometry3d::Identity()}};
   while (!stack.empty()) {
@@ -327,16 +363,18 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>*
     for (auto it = joints.rbegin(); it != joints.rend(); ++it) {
       const urdf::Joint& j = **it;
       const urdf::Link* child = model_->getLink(j.child_link_name).get();
+      // The joint frame J, which is the child link's frame at q = 0.
       const Eigen::Isometry3d X_RC = X_RL * toIsometry(j.parent_to_joint_origin_transform);
       if (j.type == urdf::Joint::FIXED) {
         body.merged_joints.push_back(j.name);
         stack.emplace_back(child, X_RC);
       } else if (j.type == urdf::Joint::FLOATING) {
         more_roots->push_back({child, root.X_WR * X_RC, false});
-      } else {  // the XML pass refuses these first; kept so no joint is ever treated as fixed
+      } else if (xml_.joints.at(j.name).type) {  // revolute, continuous, prismatic
+        hinged.push_back({child, root.X_WR * X_RC, false, &j, index, X_RC});
+      } else {  // the XML pass refuses the others first; kept so no joint is ever taken as fixed
         return fail(xml_.joints.at(j.name).line,
-                    "joint " + inQuotes(j.name) +
-                        " needs articulated dynamics: articulated joints are not simulated yet");
+                    "joint " + inQuotes(j.name) + " is of a type that is not supported");
       }
     }
   }
@@ -356,15 +394,24 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>*
       if (lm.massive) parts.push_back(transformed(lm.in_link, X_RL));
     }
     const MassProperties sum = combine(parts);
-    if (!(sum.mass > 0))
-      return fail(linkLine(body.name),
-                  "free body " + inQuotes(body.name) + " has no mass: none of its links (" +
-                      link_list + ") has an <inertial> with mass > 0 or a <" +
-                      detail::kMassFromGeometryElement +
-                      ">; a moving body needs mass and inertia (massless links are fine only "
-                      "when merged by fixed joints into a body that has mass; to keep it still, "
-                      "fix it to '" +
-                      options_.world_frame + "' with a fixed joint)");
+    if (!(sum.mass > 0)) {
+      const std::string none = " has no mass: none of its links (" + link_list +
+                               ") has an <inertial> with mass > 0 or a <" +
+                               detail::kMassFromGeometryElement +
+                               ">; a moving body needs mass and inertia (massless links are fine "
+                               "only when merged by fixed joints into a body that has mass";
+      if (root.joint) {
+        const std::string& joint = root.joint->name;
+        return fail(linkLine(body.name),
+                    "body " + inQuotes(body.name) + none + "); it is a moving body of its own " +
+                        "because " + toString(*xml_.joints.at(joint).type) + " joint " +
+                        inQuotes(joint) + " moves it (to weld it to its parent instead, make " +
+                        inQuotes(joint) + " a fixed joint)");
+      }
+      return fail(linkLine(body.name), "free body " + inQuotes(body.name) + none +
+                                           "; to keep it still, fix it to '" +
+                                           options_.world_frame + "' with a fixed joint)");
+    }
     std::string warning;
     auto inertia = dynamics::Inertia::fromTensor(body.name, sum.mass, sum.J_F,
                                                  options_.triangle_policy, &warning);
@@ -374,7 +421,7 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>*
       if (inertia.error().find("triangle") != std::string::npos) what += kRelaxHint;
       if (inertia.error().find("positive definite") != std::string::npos)
         what +=
-            "; a free body needs a positive moment of inertia about every axis (e.g. point "
+            "; a moving body needs a positive moment of inertia about every axis (e.g. point "
             "masses on one line have none about that line)";
       return fail(linkLine(body.name), what);
     }
@@ -395,8 +442,88 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, std::vector<BodyRoot>*
     }
     body.links.push_back({link->name, cga::Motor::fromIsometry(X_BL, lambda)});
   }
+  // The joints met: their frames J in this body's frame B, M_PJ = M_BL (joint <origin>).
+  for (BodyRoot& h : hinged) {
+    h.X_PJ = X_BR * h.X_PJ;
+    more_roots->push_back(h);
+  }
+  // With every joint at 0 (a joint's child is placed again at its initial position later).
   body.M_WB0 = cga::Motor::fromIsometry(root.X_WR * X_RB, lambda);
   return body;
+}
+
+// The joint that starts the body roots[index] (`child`, built): its frames and what the XML pass
+// read. J is the child link's frame at q = 0, and the child link is the body's root link, so
+// M_JC = M_BL⁻¹ of the root link.
+JointModel Loader::jointModel(const BodyRoot& root, int index, const BodyModel& child) const {
+  const detail::JointXml& xml = xml_.joints.at(root.joint->name);
+  JointModel j;
+  j.name = root.joint->name;
+  j.type = *xml.type;
+  j.parent_body = root.parent;
+  j.child_body = index;
+  j.parent_link = root.joint->parent_link_name;
+  j.child_link = root.joint->child_link_name;
+  j.M_PJ = cga::Motor::fromIsometry(root.X_PJ, options_.lambda);
+  j.M_JC = child.links.front().M_BL.reverse();
+  j.axis = xml.axis;
+  j.limits = xml.limits;
+  j.damping = xml.damping;
+  j.friction = xml.friction;
+  return j;
+}
+
+// Bodies in the document order of their root links, except that a joint's parent body comes
+// before its child body (a child link may be written before its parent's links): each body is
+// preceded by those of its ancestors not yet placed. `document_order` lists the body indices
+// sorted by the document order of their root links; the joints' body indices are renumbered and
+// the joints sorted by child body, which puts them parent first too.
+void Loader::orderParentFirst(Scene* scene, const std::vector<int>& document_order) {
+  const std::size_t n = scene->bodies.size();
+  std::vector<int> parent(n, -1);
+  for (const JointModel& j : scene->joints) parent[j.child_body] = j.parent_body;
+  std::vector<int> order, chain;  // order[new index] = old index
+  std::vector<bool> placed(n, false);
+  for (const int k : document_order) {
+    chain.clear();  // k and its ancestors not yet placed, child first (no recursion: deep chains)
+    for (int a = k; a >= 0 && !placed[a]; a = parent[a]) chain.push_back(a);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      placed[*it] = true;
+      order.push_back(*it);
+    }
+  }
+  std::vector<int> new_index(n);
+  std::vector<BodyModel> bodies;
+  bodies.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    new_index[order[i]] = static_cast<int>(i);
+    bodies.push_back(std::move(scene->bodies[order[i]]));
+  }
+  scene->bodies = std::move(bodies);
+  for (JointModel& j : scene->joints) {
+    if (j.parent_body >= 0) j.parent_body = new_index[j.parent_body];
+    j.child_body = new_index[j.child_body];
+  }
+  std::sort(scene->joints.begin(), scene->joints.end(),
+            [](const JointModel& a, const JointModel& b) { return a.child_body < b.child_body; });
+}
+
+// Each joint starts at q = 0 unless its limits exclude 0: then at the nearest limit, with a
+// warning (the initial-state dictionary can choose another position).
+void Loader::setDefaultInitialPositions(Scene* scene) {
+  for (JointModel& j : scene->joints) {
+    const JointLimits& l = j.limits;
+    if (!l.has_position || (l.lower <= 0.0 && 0.0 <= l.upper)) continue;
+    j.initial_position = 0.0 < l.lower ? l.lower : l.upper;
+    const char* unit = j.type == JointType::kPrismatic ? " m" : " rad";
+    warnings_.push_back(source_ + ":" + std::to_string(xml_.joints.at(j.name).line) + ": joint " +
+                        inQuotes(j.name) + ": the default initial position 0" + unit +
+                        " is outside its limits [" + formatNumber(l.lower, kDigits) + ", " +
+                        formatNumber(l.upper, kDigits) + "]" + unit + ": clamped to the " +
+                        (0.0 < l.lower ? "lower" : "upper") + " limit " +
+                        formatNumber(j.initial_position, kDigits) + unit + " (~initial_state." +
+                        j.name + ".position chooses another)");
+  }
 }
 
 Result<Scene> Loader::load(const std::string& xml) {
@@ -444,13 +571,16 @@ Result<Scene> Loader::load(const std::string& xml) {
     masses_.emplace(name, *lm);
   }
 
-  // (4) bodies.
+  // (4) bodies, and the joints that start them.
   std::vector<BodyRoot> roots;
   if (rooted_in_world) {
     for (const auto& j : childJoints(*root)) {
       const urdf::Link* child = model->getLink(j->child_link_name).get();
-      roots.push_back(
-          {child, toIsometry(j->parent_to_joint_origin_transform), j->type == urdf::Joint::FIXED});
+      const Eigen::Isometry3d X_WJ = toIsometry(j->parent_to_joint_origin_transform);
+      if (xml_.joints.at(j->name).type)  // revolute, continuous, prismatic: hinged to the world
+        roots.push_back({child, X_WJ, false, j.get(), -1, X_WJ});
+      else
+        roots.push_back({child, X_WJ, j->type == urdf::Joint::FIXED});
     }
   } else {
     roots.push_back({root.get(), Eigen::Isometry3d::Identity(), false});
@@ -462,18 +592,24 @@ Result<Scene> Loader::load(const std::string& xml) {
   scene.gravity_W = options_.gravity_W;
   for (std::size_t k = 0; k < roots.size(); ++k) {
     const BodyRoot r = roots[k];  // copy: buildBody may grow `roots`
-    auto body = buildBody(r, &roots);
+    auto body = buildBody(r, static_cast<int>(k), &roots);
     if (!body) return Error{body.error()};
+    if (r.joint) scene.joints.push_back(jointModel(r, static_cast<int>(k), *body));
     scene.bodies.push_back(std::move(*body));
   }
-  std::stable_sort(scene.bodies.begin(), scene.bodies.end(),
-                   [&](const BodyModel& a, const BodyModel& b) {
-                     return xml_.links.at(a.name).order < xml_.links.at(b.name).order;
-                   });
+  std::vector<int> document_order(scene.bodies.size());
+  for (std::size_t k = 0; k < document_order.size(); ++k) document_order[k] = static_cast<int>(k);
+  std::stable_sort(document_order.begin(), document_order.end(), [&](int a, int b) {
+    return xml_.links.at(scene.bodies[a].name).order < xml_.links.at(scene.bodies[b].name).order;
+  });
+  orderParentFirst(&scene, document_order);
+
+  // (5) the joints' initial positions and the bodies they place, then the initial state.
+  setDefaultInitialPositions(&scene);
+  placeJointChildren(scene);
   scene.warnings = std::move(xml_.warnings);
   scene.warnings.insert(scene.warnings.end(), warnings_.begin(), warnings_.end());
 
-  // (5) initial state.
   auto applied = applyInitialState(scene, options_.initial_state);
   if (!applied) return Error{applied.error()};
   return scene;

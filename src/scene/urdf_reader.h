@@ -86,6 +86,9 @@ class Reader {
   std::optional<Error> applyGazeboFriction();
   std::optional<Error> readLink(const XMLElement* e, int order);
   std::optional<Error> readJoint(const XMLElement* e, int order);
+  // <axis>, <limit> and <dynamics> of a revolute, continuous or prismatic joint.
+  std::optional<Error> readJointMotion(const XMLElement* e, const std::string& owner,
+                                       JointXml* joint);
   // After the link's collisions are read (it needs at least one).
   std::optional<Error> readMassFromGeometry(const std::string& owner, const XMLElement* ext,
                                             LinkXml* out) const;

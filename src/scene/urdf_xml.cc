@@ -155,6 +155,102 @@ std::optional<Error> Reader::readLink(const XMLElement* e, int order) {
   return std::nullopt;
 }
 
+// A revolute, continuous or prismatic joint's motion, as URDF defines it: <axis xyz> (default
+// (1, 0, 0), normalised here), <limit lower upper effort velocity> (required for revolute and
+// prismatic; effort and velocity required in every <limit>, as urdfdom requires them; lower and
+// upper default to 0; a continuous joint has no position limits and ignores lower and upper),
+// <dynamics damping friction> (at least one of them, as urdfdom requires; each defaults to 0).
+std::optional<Error> Reader::readJointMotion(const XMLElement* e, const std::string& owner,
+                                             JointXml* joint) {
+  const JointType type = *joint->type;
+  const std::string type_name = toString(type);
+  if (const XMLElement* axis = e->FirstChildElement("axis")) {
+    const char* text = axis->Attribute("xyz");
+    if (!text)
+      return fail(axis->GetLineNum(), owner +
+                                          ": <axis> has no xyz attribute (urdfdom would read "
+                                          "a zero axis); give the joint's direction, e.g. "
+                                          "<axis xyz=\"0 0 1\"/>");
+    Eigen::Vector3d xyz;
+    if (!parseTriple(text, &xyz))
+      return fail(axis->GetLineNum(),
+                  owner + ": <axis xyz> must be three finite numbers (got " + inQuotes(text) + ")");
+    // stableNorm: neither a tiny nor a huge axis under- or overflows on the way to unit length.
+    const double norm = xyz.stableNorm();
+    if (!(norm > 0) || !std::isfinite(norm))
+      return fail(axis->GetLineNum(),
+                  owner + ": <axis xyz> must not be zero (got " + inQuotes(text) +
+                      "): it is the direction the " + type_name + " joint " +
+                      (type == JointType::kPrismatic ? "slides along" : "turns about"));
+    joint->axis = xyz / norm;
+  }
+
+  const XMLElement* limit = e->FirstChildElement("limit");
+  JointLimits& limits = joint->limits;
+  if (!limit && type != JointType::kContinuous)
+    return fail(joint->line, owner + " is " + type_name +
+                                 " but has no <limit>: URDF requires <limit lower=... upper=... "
+                                 "effort=... velocity=.../> for revolute and prismatic joints "
+                                 "(use 'continuous' for a revolute joint without position "
+                                 "limits)");
+  if (limit) {
+    const int line = limit->GetLineNum();
+    for (const char* attr : {"effort", "velocity"})
+      if (!limit->Attribute(attr))
+        return fail(line, owner + ": <limit> has no " + attr +
+                              " attribute (URDF requires effort and velocity in every <limit>)");
+    double lower = 0.0, upper = 0.0;  // URDF's defaults
+    if (auto err = readNumberAttr(limit, "lower", owner, false, &lower)) return err;
+    if (auto err = readNumberAttr(limit, "upper", owner, false, &upper)) return err;
+    if (auto err = readNumberAttr(limit, "effort", owner, true, &limits.effort)) return err;
+    if (auto err = readNumberAttr(limit, "velocity", owner, true, &limits.velocity)) return err;
+    const char* unit = type == JointType::kPrismatic ? " N" : " N m";
+    if (limits.effort < 0)
+      return fail(line, owner + ": <limit> effort must be >= 0 (got " +
+                            formatNumber(limits.effort, 10) + unit +
+                            "): it bounds the magnitude of the joint's effort");
+    unit = type == JointType::kPrismatic ? " m/s" : " rad/s";
+    if (limits.velocity < 0)
+      return fail(line, owner + ": <limit> velocity must be >= 0 (got " +
+                            formatNumber(limits.velocity, 10) + unit +
+                            "): it bounds the magnitude of the joint's velocity");
+    if (type != JointType::kContinuous) {
+      unit = type == JointType::kPrismatic ? " m" : " rad";
+      if (lower > upper)
+        return fail(line, owner + ": <limit> lower " + formatNumber(lower, 10) + unit +
+                              " > upper " + formatNumber(upper, 10) + unit +
+                              ": the range of positions is empty (lower must be <= upper)");
+      for (const char* attr : {"lower", "upper"})
+        if (!limit->Attribute(attr))
+          out_.warnings.push_back(source_ + ":" + std::to_string(line) + ": " + owner +
+                                  ": <limit> has no " + attr + "; URDF's default " + attr +
+                                  " = 0 is used");
+      limits.has_position = true;
+      limits.lower = lower;
+      limits.upper = upper;
+    }
+  }
+
+  if (const XMLElement* dynamics = e->FirstChildElement("dynamics")) {
+    const int line = dynamics->GetLineNum();
+    if (!dynamics->Attribute("damping") && !dynamics->Attribute("friction"))
+      return fail(line, owner +
+                            ": <dynamics> has neither damping nor friction (urdfdom refuses "
+                            "an empty <dynamics>; remove it for a joint without either)");
+    if (auto err = readNumberAttr(dynamics, "damping", owner, false, &joint->damping)) return err;
+    if (auto err = readNumberAttr(dynamics, "friction", owner, false, &joint->friction)) return err;
+    if (joint->damping < 0)
+      return fail(line, owner + ": <dynamics> damping must be >= 0 (got " +
+                            formatNumber(joint->damping, 10) +
+                            "): a negative viscous damping would feed energy into the joint");
+    if (joint->friction < 0)
+      return fail(line, owner + ": <dynamics> friction must be >= 0 (got " +
+                            formatNumber(joint->friction, 10) +
+                            "): it is the magnitude of the joint's Coulomb friction");
+  }
+  return std::nullopt;
+}
+
 std::optional<Error> Reader::readJoint(const XMLElement* e, int order) {
   const char* name_attr = e->Attribute("name");
   if (!name_attr || !*name_attr) return fail(e->GetLineNum(), "<joint> has no name attribute");
@@ -171,18 +267,30 @@ std::optional<Error> Reader::readJoint(const XMLElement* e, int order) {
   const char* type = e->Attribute("type");
   if (!type) return fail(joint.line, owner + " has no type attribute");
   const std::string t = type;
-  if (t == "revolute" || t == "continuous" || t == "prismatic" || t == "planar")
-    return fail(joint.line, owner + " is of type " + inQuotes(t) +
-                                ", which needs articulated dynamics: articulated joints are not "
-                                "simulated yet (supported: fixed, floating). Use 'fixed' to weld "
-                                "the links into one body or 'floating' to make the child a free "
-                                "body");
-  if (t != "fixed" && t != "floating")
+  if (t == "planar")
+    return fail(joint.line, owner +
+                                " is of type 'planar', which is not supported: a planar "
+                                "joint has three degrees of freedom in one plane; use "
+                                "'floating' to make the child a free body, or a chain of "
+                                "prismatic and revolute joints (each link between them "
+                                "needs mass)");
+  if (t == "revolute") joint.type = JointType::kRevolute;
+  if (t == "continuous") joint.type = JointType::kContinuous;
+  if (t == "prismatic") joint.type = JointType::kPrismatic;
+  if (!joint.type && t != "fixed" && t != "floating")
     return fail(joint.line, owner + ": unknown joint type " + inQuotes(t) +
                                 " (URDF joint types: fixed, floating, revolute, continuous, "
-                                "prismatic, planar; simulated: fixed, floating)");
+                                "prismatic, planar; supported: fixed, floating, revolute, "
+                                "continuous, prismatic)");
+  if (const XMLElement* mimic = e->FirstChildElement("mimic"))
+    return fail(mimic->GetLineNum(), owner +
+                                         " has a <mimic> element: mimic joints are not "
+                                         "supported yet (remove it to simulate the joint "
+                                         "as an independent one)");
   Eigen::Isometry3d X;
   if (auto err = readOrigin(e, owner, &X)) return err;
+  if (joint.type)
+    if (auto err = readJointMotion(e, owner, &joint)) return err;
   JointEdge edge;
   edge.name = name;
   edge.line = joint.line;

@@ -11,12 +11,14 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
+#include "cga_rigid_sim/scene/joint.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -61,6 +63,14 @@ struct LinkXml {
 struct JointXml {
   int order = 0;
   int line = 0;
+  /// Set for a revolute, continuous or prismatic joint (then the fields below are read and
+  /// checked); unset for fixed and floating joints, whose <axis>, <limit> and <dynamics> the
+  /// loader does not use.
+  std::optional<JointType> type;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  ///< unit; URDF's default (1, 0, 0)
+  JointLimits limits;     ///< has_position for revolute and prismatic only
+  double damping = 0.0;   ///< <dynamics damping>, >= 0
+  double friction = 0.0;  ///< <dynamics friction>, >= 0
 };
 
 struct UrdfXml {

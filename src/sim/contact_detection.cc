@@ -124,9 +124,13 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
 void build(const Model& model, CollisionCache& cache) {
   cache.shapes.clear();
   const auto& bodies = model.scene.bodies;
-  for (int j = 0; j < static_cast<int>(bodies.size()); ++j)
+  for (int j = 0; j < static_cast<int>(bodies.size()); ++j) {
+    // Bodies of articulated trees do not collide yet (doc/articulated.md#not-yet).
+    const int i = model.moving_of_body[j];
+    if (i >= 0 && model.tree_of_moving[i] >= 0) continue;
     for (int k = 0; k < static_cast<int>(bodies[j].shapes.size()); ++k)
       cache.shapes.push_back(makeShape(bodies[j].shapes[k], j, k));
+  }
   cache.pose_W.resize(cache.shapes.size());
   cache.sweep.reserve(cache.shapes.size());
   cache.topology = model.topology_version;

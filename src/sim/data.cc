@@ -14,6 +14,33 @@ Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyStat
   return b;
 }
 
+Result<TreeData> makeTreeData(const Model& model, int t) {
+  const TreeModel& tm = model.trees[t];
+  auto integrator = dynamics::makeTreeIntegrator(model.config.integrator);
+  if (!integrator) return Error("config", "integrator", integrator.error());
+  TreeData d;
+  d.state = tm.initial;
+  d.integrator = std::move(integrator.value());
+  const int n = tm.body.jointCount();
+  d.loads.gravity_W = model.scene.gravity_W;
+  d.loads.applied.assign(tm.body.bodyCount(), nullptr);
+  d.loads.effort = Eigen::VectorXd::Zero(n);
+  d.held_effort = Eigen::VectorXd::Zero(n);
+  d.clamped_steps.assign(n, 0);
+  return d;
+}
+
+void writeTreeBodies(const Model& model, Data& data, int t) {
+  const TreeModel& tm = model.trees[t];
+  static thread_local dynamics::TreeKinematics kin;
+  dynamics::treeKinematics(tm.body, data.trees[t].state, kin);
+  for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+    MovingBodyData& body = data.bodies[tm.movingOf(b)];
+    body.state = {kin.M_W[b], kin.omega[b]};
+    body.last_path = StepPath::kStepped;
+  }
+}
+
 Result<Data> makeData(const Model& model) {
   Data data;
   const int n = static_cast<int>(model.moving.size());
@@ -24,6 +51,11 @@ Result<Data> makeData(const Model& model) {
     data.bodies.push_back(std::move(b.value()));
   }
   data.dirty_list.reserve(n);
+  for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
+    auto td = makeTreeData(model, t);
+    if (!td) return td.failure();
+    data.trees.push_back(std::move(td.value()));
+  }
   return data;
 }
 

@@ -21,24 +21,6 @@ Result<int> frameOf(const Model& model, const std::string& input, const std::str
   return l->second.second;
 }
 
-// The step an input stamped s belongs to, k = floor(s/dt + kStepTolerance) (0 = the next
-// step), or the refusal.
-Result<std::uint64_t> stepOf(const Model& model, const Data& data, const std::string& input,
-                             double s) {
-  if (s == 0.0) return data.step_count;
-  const double q = s / model.config.dt + kStepTolerance;
-  if (q > kMaxSteps)
-    return Error(input, "start_time",
-                 "start stamp " + num(s) + " is too far ahead (more than " + num(kMaxSteps) +
-                     " steps of " + num(model.config.dt) + " s)");
-  const double k = std::floor(q);
-  if (k < 0 || static_cast<std::uint64_t>(k) < data.step_count)
-    return Error(input, "start_time",
-                 "start stamp " + num(s) + " is already past (sim time " +
-                     num(static_cast<double>(data.step_count) * model.config.dt) + ")");
-  return static_cast<std::uint64_t>(k);
-}
-
 // An input's directions and point, as queued: in world axes (frame < 0), or carried once from
 // link L's frame into B with the constant placement M_BL — fixed in the link, it turns with it.
 QueuedInput placed(const Model& model, QueuedInput::Kind kind, std::uint64_t step, int i, int frame,
@@ -64,6 +46,24 @@ QueuedInput placed(const Model& model, QueuedInput::Kind kind, std::uint64_t ste
 }
 
 }  // namespace
+
+// The step an input stamped s belongs to, k = floor(s/dt + kStepTolerance) (0 = the next
+// step), or the refusal.
+Result<std::uint64_t> stepOf(const Model& model, const Data& data, const std::string& input,
+                             double s) {
+  if (s == 0.0) return data.step_count;
+  const double q = s / model.config.dt + kStepTolerance;
+  if (q > kMaxSteps)
+    return Error(input, "start_time",
+                 "start stamp " + num(s) + " is too far ahead (more than " + num(kMaxSteps) +
+                     " steps of " + num(model.config.dt) + " s)");
+  const double k = std::floor(q);
+  if (k < 0 || static_cast<std::uint64_t>(k) < data.step_count)
+    return Error(input, "start_time",
+                 "start stamp " + num(s) + " is already past (sim time " +
+                     num(static_cast<double>(data.step_count) * model.config.dt) + ")");
+  return static_cast<std::uint64_t>(k);
+}
 
 Result<int> movingTarget(const Model& model, const std::string& input, const std::string& name) {
   const int j = model.resolveBody(name);

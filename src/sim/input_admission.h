@@ -19,6 +19,10 @@ namespace sim {
 /// "<input>.body: unknown body '…'" / "… is static (static bodies never move)".
 Result<int> movingTarget(const Model& model, const std::string& input, const std::string& name);
 
+/// The step an input stamped s belongs to, k = floor(s/dt + kStepTolerance) (0 = the next
+/// step), or the refusal "<input>.start_time: …" (too far ahead, already past).
+Result<std::uint64_t> stepOf(const Model& model, const Data& data, const std::string& input,
+                             double s);
 Result<QueuedInput> admitWrench(const Model& model, const Data& data, const WrenchInput& in);
 Result<QueuedInput> admitImpulse(const Model& model, const Data& data, const ImpulseInput& in);
 

@@ -5,6 +5,7 @@
 
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "input_rules.h"
+#include "tree_compile.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -26,11 +27,13 @@ int appendBody(Model& model, scene::BodyModel body) {
   model.body_by_name[body.name] = j;
   for (int li = 0; li < static_cast<int>(body.links.size()); ++li)
     model.link_owner[body.links[li].link] = {j, li};
-  model.parent.push_back(-1);  // free or static: every body hangs on the world
+  model.parent.push_back(-1);  // set for tree links by compileTrees
   if (body.is_static) {
     model.moving_of_body.push_back(-1);
   } else {
     model.moving_of_body.push_back(static_cast<int>(model.moving.size()));
+    model.tree_of_moving.push_back(-1);
+    model.tree_body_of_moving.push_back(-1);
     model.moving.push_back({j, *body.inertia, dynamics::BodyState{body.M_WB0, body.omega_B0}});
   }
   model.scene.bodies.push_back(std::move(body));
@@ -122,6 +125,7 @@ Result<Model> compileModel(scene::Scene scene, const WorldConfig& config) {
     if (auto e = checkBody(model, bodies[j], static_cast<int>(j))) return *e;
     appendBody(model, std::move(bodies[j]));
   }
+  if (auto e = compileTrees(model)) return *e;
   return model;
 }
 

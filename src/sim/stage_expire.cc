@@ -8,6 +8,7 @@ namespace sim {
 
 void expireInputs(const Model& /*model*/, Data& data) {
   if (data.step_count >= data.next_expiry) expireWrenches(data, data.step_count);
+  if (!data.trees.empty()) expireEfforts(data);
 }
 
 }  // namespace sim

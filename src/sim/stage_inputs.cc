@@ -16,6 +16,17 @@ void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
       in.axes == dynamics::Axes::kWorld
           ? dynamics::impulseMoment_B(b.state, in.F, in.point, in.couple, lambda)
           : cga::Moment::ofForceAt(in.F.f, in.point, lambda) + cga::Moment::couple(in.couple);
+  const int t = model.tree_of_moving[in.body];
+  if (t >= 0) {  // a tree's velocities jump by M⁻¹ Jᵀ T_imp (doc/articulated.md#impulses)
+    const dynamics::ArticulatedBody& tree = model.trees[t].body;
+    TreeData& td = data.trees[t];
+    const Eigen::VectorXd dnu =
+        dynamics::impulseResponse(tree, td.state, model.tree_body_of_moving[in.body], T_imp_B);
+    dynamics::setVelocityVector(tree, dynamics::velocityVector(tree, td.state) + dnu, td.state);
+    td.integrator->reset();
+    writeTreeBodies(model, data, t);
+    return;
+  }
   dynamics::applyImpulse(model.moving[in.body].inertia, T_imp_B, lambda, b.state);
   b.integrator->reset();  // its caches describe the motion before the jump
 }
@@ -28,6 +39,12 @@ void applyDueInputs(const Model& model, Data& data) {
   while (const QueuedInput* in = data.queue.popDue(k)) {
     if (in->kind == QueuedInput::Kind::kImpulse) {
       applyImpulseNow(model, data, *in);
+    } else if (in->kind == QueuedInput::Kind::kHeldEffort) {
+      data.trees[in->tree].held_effort[in->joint] = in->effort;
+    } else if (in->kind == QueuedInput::Kind::kTimedEffort) {
+      // Room was reserved when it was queued (World::applyJointEffort).
+      data.trees[in->tree].timed.push_back(
+          {in->joint, in->effort, in->steps == 0 ? kUntilCleared : k + in->steps});
     } else {
       startWrench(model, data, *in, k);
     }

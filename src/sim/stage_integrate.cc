@@ -21,6 +21,7 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
   const double h = model.config.dt, lambda = model.lambda;
   for (std::size_t i = begin; i < end; ++i) {
     MovingBodyData& b = data.bodies[i];
+    if (model.tree_of_moving[i] >= 0) continue;  // moved by its tree (stage_trees.cc)
     if (b.contact_step == MovingBodyData::ContactStep::kDone) {
       b.contact_step = MovingBodyData::ContactStep::kNone;
       b.last_path = StepPath::kStepped;

@@ -19,6 +19,24 @@ Result<bool> setBodyState(const Model& model, Data& data, const std::string& bod
   if (!target) return target.failure();
   const int i = *target;
   MovingBodyData& b = data.bodies[i];
+  if (const int t = model.tree_of_moving[i]; t >= 0) {
+    if (model.tree_body_of_moving[i] != 0) {
+      const int k = model.tree_body_of_moving[i] - 1;
+      return Error(what, "body",
+                   "body '" + body + "' is moved by joint '" +
+                       model.scene.joints[model.trees[t].scene_joint[k]].name +
+                       "' of a tree: set the tree's root, or the joint positions in "
+                       "~initial_state");
+    }
+    // The floating root of a tree: the whole tree moves with it, joints unchanged.
+    const dynamics::BodyState s =
+        scene::placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
+    data.trees[t].state.M_W0 = s.M_WB;
+    data.trees[t].state.omega_0 = s.omega_B;
+    data.trees[t].integrator->reset();
+    writeTreeBodies(model, data, t);
+    return true;
+  }
   b.state =
       scene::placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
   b.integrator->reset();
@@ -36,6 +54,11 @@ void resetBodies(const Model& model, Data& data) {
   for (std::size_t i = 0; i < data.bodies.size(); ++i)
     if (auto b = makeBodyData(model, model.moving[i].initial))
       data.bodies[i] = std::move(b.value());
+  for (int t = 0; t < static_cast<int>(model.trees.size()); ++t)
+    if (auto td = makeTreeData(model, t)) {
+      data.trees[t] = std::move(td.value());
+      writeTreeBodies(model, data, t);
+    }
 }
 
 }  // namespace sim

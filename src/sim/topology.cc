@@ -28,6 +28,10 @@ Result<scene::BodyModel> loadSpawnedBody(const Model& model, const std::string& 
     return Error(source, "",
                  "the URDF must hold exactly one body, a moving one (it has " +
                      std::to_string(moving) + " moving and " + std::to_string(fixed) + " static)");
+  if (!loaded->joints.empty())
+    return Error(source, "",
+                 "the URDF has joints ('" + loaded->joints.front().name +
+                     "'): articulated trees cannot be spawned yet; load them with the scene");
   scene::BodyModel body = loaded->bodies.front();
   if (!body.inertia) return Error(source, "", "the body has no inertia");
   // The body and its root link take the new name (body name = root link name).
@@ -92,6 +96,17 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
   const int j = model.findBody(body);
   if (j < 0) return Error("delete_body", "body", "unknown body '" + body + "'");
   const int i = model.moving_of_body[j];
+  // Trees: a link or the root of a tree, or the static body a tree hangs from, stays.
+  if (i >= 0 && model.tree_of_moving[i] >= 0)
+    return Error("delete_body", "body",
+                 "body '" + body + "' belongs to the articulated tree '" +
+                     model.trees[model.tree_of_moving[i]].name +
+                     "' (deleting parts of a tree is not supported)");
+  for (const auto& joint : model.scene.joints)
+    if (joint.parent_body == j)
+      return Error("delete_body", "body",
+                   "body '" + body + "' carries joint '" + joint.name +
+                       "' of an articulated tree (deleting it is not supported)");
 
   // Data: its inputs go with it; moving indices after it shift down by one.
   if (i >= 0) {
@@ -114,7 +129,20 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
   model.scene.bodies.erase(model.scene.bodies.begin() + j);
   model.parent.erase(model.parent.begin() + j);
   model.moving_of_body.erase(model.moving_of_body.begin() + j);
-  if (i >= 0) model.moving.erase(model.moving.begin() + i);
+  if (i >= 0) {
+    model.moving.erase(model.moving.begin() + i);
+    model.tree_of_moving.erase(model.tree_of_moving.begin() + i);
+    model.tree_body_of_moving.erase(model.tree_body_of_moving.begin() + i);
+    for (auto& t : model.trees) {
+      if (t.base_moving > i) --t.base_moving;
+      for (auto& m : t.link_moving)
+        if (m > i) --m;
+    }
+  }
+  for (auto& joint : model.scene.joints) {
+    if (joint.parent_body > j) --joint.parent_body;
+    if (joint.child_body > j) --joint.child_body;
+  }
   for (auto& m : model.moving_of_body)
     if (i >= 0 && m > i) --m;
   for (auto& m : model.moving)

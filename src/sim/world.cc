@@ -10,6 +10,7 @@
 #include "cga_rigid_sim/sim/worker_pool.h"
 #include "contact_detection.h"
 #include "input_admission.h"
+#include "joint_efforts.h"
 #include "state_edit.h"
 #include "topology.h"
 #include "wrench_schedule.h"
@@ -47,7 +48,7 @@ void World::step() {
   applyDueInputs(m, d);
   updateLoads(m, d);
   solveContacts(m, d);
-  // Articulated joints enter here as a stage of their own (doc/architecture.md).
+  integrateTrees(m, d);
   integrateBodies(m, d, impl_->pool.get());
   expireInputs(m, d);
 }
@@ -112,14 +113,15 @@ std::uint64_t World::topologyVersion() const { return impl_->model.topology_vers
 std::size_t World::activeWrenchCount() const { return impl_->data.active.size(); }
 std::size_t World::queuedInputCount() const { return impl_->data.queue.size(); }
 
-// Articulated trees: placeholders until the tree stage lands (doc/articulated.md).
-Result<bool> World::setJointEfforts(const JointEffortInput&) {
-  return Error{"joint_efforts", "name", "articulated joints are not simulated yet"};
+Result<bool> World::setJointEfforts(const JointEffortInput& in) {
+  return queueJointEfforts(impl_->model, impl_->data, in);
 }
-Result<bool> World::applyJointEffort(const TimedJointEffortInput&) {
-  return Error{"apply_joint_effort", "joint", "articulated joints are not simulated yet"};
+Result<bool> World::applyJointEffort(const TimedJointEffortInput& in) {
+  return queueTimedJointEffort(impl_->model, impl_->data, in);
 }
-std::vector<JointStateReport> World::jointStates() const { return {}; }
+std::vector<JointStateReport> World::jointStates() const {
+  return jointStateReports(impl_->model, impl_->data);
+}
 
 std::vector<MomentumReport> World::momentum() const {
   return momentumReports(impl_->model, impl_->data);

@@ -53,6 +53,9 @@ class Inertia {
   static Result<Inertia> fromPrincipal(const std::string& body, double mass,
                                        const Eigen::Vector3d& moments);
 
+  /// Mass 1 kg, moments 1 kg m² (a placeholder to be assigned; always valid).
+  static Inertia unit() { return Inertia(); }
+
   double mass() const { return mass_; }
   /// (J1, J2, J3) along B's axes, kg m².
   const Eigen::Vector3d& principalMoments() const { return J_; }

@@ -17,6 +17,7 @@
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
@@ -56,6 +57,23 @@ struct ActiveWrench {
   dynamics::AppliedLoad load;
 };
 
+/// A timed effort that has started on one joint of a tree.
+struct ActiveEffort {
+  int joint = -1;  ///< joint index in the tree
+  double effort = 0.0;
+  std::uint64_t end_step = kUntilCleared;
+};
+
+/// The changing part of one articulated tree (doc/articulated.md).
+struct TreeData {
+  dynamics::TreeState state;
+  std::unique_ptr<dynamics::TreeIntegrator> integrator;
+  dynamics::TreeLoads loads;        ///< gravity, the links' applied loads, this step's efforts
+  Eigen::VectorXd held_effort;      ///< per joint: the last commanded effort (~joint_efforts)
+  std::vector<ActiveEffort> timed;  ///< started timed efforts (~apply_joint_effort)
+  std::vector<std::uint64_t> clamped_steps;  ///< per joint: steps its effort was clamped
+};
+
 struct Data {
   std::uint64_t step_count = 0;  ///< steps done; t = step_count·dt (never goes back)
 
@@ -75,7 +93,16 @@ struct Data {
   /// J taken out by contacts since the start or the last reset (MomentumReport).
   double dissipated_energy = 0.0;
   std::shared_ptr<ContactScratch> contact_scratch;  ///< made by the first contacts stage
+
+  /// Per tree (the Model's tree index).
+  std::vector<TreeData> trees;
 };
+
+/// The data of tree `t` at its initial state, with no effort.
+Result<TreeData> makeTreeData(const Model& model, int t);
+/// Writes the state of every body of tree `t` (its links, and its floating root) from the
+/// tree's state.
+void writeTreeBodies(const Model& model, Data& data, int t);
 
 /// The data of a moving body at state `initial`: a fresh integrator, gravity as its only load.
 /// Fails only for an unknown integrator name (compileModel has checked it).

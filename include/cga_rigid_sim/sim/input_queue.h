@@ -29,7 +29,8 @@ constexpr std::uint64_t kUntilCleared = std::numeric_limits<std::uint64_t>::max(
 /// frame): F and couple are in world axes and `point` is the world point; it becomes a
 /// material point of B only when the input takes effect, at the pose of that step.
 struct QueuedInput {
-  enum class Kind { kWrench, kImpulse };
+  /// kHeldEffort sets a joint's held effort; kTimedEffort starts an effort for `steps` steps.
+  enum class Kind { kWrench, kImpulse, kHeldEffort, kTimedEffort };
   Kind kind = Kind::kWrench;
   std::uint64_t step = 0;     ///< the step it takes effect at (start of the step)
   std::uint64_t arrival = 0;  ///< arrival number (tie-break within a step)
@@ -39,6 +40,9 @@ struct QueuedInput {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< m: B (kBody) or world (kWorld)
   Eigen::Vector3d couple = Eigen::Vector3d::Zero();  ///< N m or N m s, in `axes`
   std::uint64_t steps = 1;  ///< wrench: how many steps it lasts; 0 = until cleared
+  int tree = -1;            ///< efforts: the tree and the joint index in it
+  int joint = -1;
+  double effort = 0.0;  ///< N m or N
 };
 
 class InputQueue {

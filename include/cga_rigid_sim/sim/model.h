@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/result.h"
@@ -35,6 +36,21 @@ struct MovingBody {
   dynamics::BodyState initial;  ///< the state reset() returns to
 };
 
+/// An articulated tree (doc/articulated.md): its dynamics model and where its bodies are. Every
+/// link body of a tree is also a moving body (its state is written by the tree stage, so
+/// reports, tf, wrenches and impulses address it like any body); the tree's base is a floating
+/// root (a moving body) or the world (fixed base).
+struct TreeModel {
+  std::string name;  ///< the root body's name (floating) or the first joint's parent link
+  dynamics::ArticulatedBody body;
+  int base_moving = -1;          ///< moving index of the floating root; −1 for a fixed base
+  std::vector<int> link_moving;  ///< per joint k: moving index of its child body
+  std::vector<int> scene_joint;  ///< per joint k: index in scene.joints
+  dynamics::TreeState initial;   ///< the state reset() returns to
+  /// Moving index of tree body b (0: the base; −1 for a fixed base).
+  int movingOf(int b) const { return b == 0 ? base_moving : link_moving[b - 1]; }
+};
+
 struct Model {
   WorldConfig config;
   double lambda = 1.0;  ///< CGA length scale, m (the scene's)
@@ -46,6 +62,13 @@ struct Model {
   std::vector<int> moving_of_body;
   /// Per moving body i.
   std::vector<MovingBody> moving;
+
+  /// Articulated trees, and per moving body i its tree and body index in it (−1: a free body).
+  std::vector<TreeModel> trees;
+  std::vector<int> tree_of_moving;
+  std::vector<int> tree_body_of_moving;
+  /// Joint name → (tree, joint index in the tree).
+  std::map<std::string, std::pair<int, int>> joint_by_name;
 
   /// Name look-ups (inputs and reports; never used by the step).
   std::map<std::string, int> body_by_name;                // body name → j

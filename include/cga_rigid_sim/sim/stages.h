@@ -10,14 +10,17 @@
 //   solveContacts    contacts found at the step's start (broad, then narrow phase); every body
 //                    in one is kicked by its loads and the contact impulses, solved together,
 //                    act on it as user impulses do (stage_contacts.cc, doc/contacts.md);
-//   (articulated joints enter here: trees through the articulated-body algorithm)
+//   integrateTrees   every articulated tree over the step with its tree integrator (gravity,
+//                    its links' loads, its joints' held and timed efforts clamped to their
+//                    limits); its bodies' states are then written from the tree's
+//                    (stage_trees.cc, doc/articulated.md);
 //   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator (a body the
 //                    contacts stage kicked drifts torque-free and without gravity); a body with no
 //                    load and Ω_B = 0 is at rest under every integrator and is skipped; then the
 //                    clock advances, t = (k + 1)·dt (stage_integrate.cc). The bodies are
 //                    independent here, so a WorkerPool may split them between threads;
-//   expireInputs     wrenches whose last step was k end; their loads drop out at the next
-//                    updateLoads (stage_expire.cc).
+//   expireInputs     wrenches and timed joint efforts whose last step was k end; their loads
+//                    drop out at the next updateLoads (stage_expire.cc).
 //
 // Every stage is a free function over (const Model&, Data&), allocation-free and
 // deterministic: the same Model, Data and queued inputs give bit-identical states.
@@ -46,6 +49,10 @@ void solveContacts(const Model& model, Data& data);
 /// fraction of the work.
 constexpr std::size_t kMinBodiesPerThread = 256;
 void expireInputs(const Model& model, Data& data);
+/// Advances every articulated tree and writes its bodies' states.
+void integrateTrees(const Model& model, Data& data);
+/// Timed joint efforts whose last step was the one just done end (called by expireInputs).
+void expireEfforts(Data& data);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

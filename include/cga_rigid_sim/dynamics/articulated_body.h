@@ -1,0 +1,156 @@
+// ArticulatedBody: a kinematic tree of rigid links joined by revolute and prismatic joints, and
+// the algorithms over it — forward kinematics, the recursive Newton–Euler algorithm (RNEA),
+// the articulated-body algorithm (ABA), the composite-rigid-body mass matrix (CRBA), the
+// momentum map and the gradient of the Lagrangian. Derivations: doc/articulated.md.
+//
+// Everything is written in the algebra's terms (doc/conventions.md): a link's pose is a motor
+// M_WL, its velocity the body bivelocity Ω_L = (w, v/λ) in its own frame (origin at its centre
+// of mass, principal axes, so its inertia map I(·)∧n is diagonal), a joint's screw axis is a
+// unit bivector S, forces and momenta are trivectors (τ, λf) (cga/moment.h). Frames change with
+// the motor sandwich M X M̃ (Motor::apply). The velocity-product terms are commutator products
+// (cga::commutator): the acceleration a child gets from its joint's rate is q̇ (s × Ω).
+//
+// Bodies are numbered b = 0…n: body 0 is the base — a free body (floating base, 6 velocity
+// coordinates Ω_0) or the world (fixed base: no coordinates, M_W0 = 1, Ω_0 = 0) — and body
+// k + 1 is the child of joint k. Joints come parent first. Generalized velocities
+// ν = (Ω_0, q̇) for a floating base, ν = q̇ for a fixed one; the power pairing of a trivector T
+// with a bivelocity Ω is ⟨T, Ω⟩ = T.rot·Ω.rot + T.trans·Ω.trans (τ·w + f·v).
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "cga_rigid_sim/cga/bivelocity.h"
+#include "cga_rigid_sim/cga/moment.h"
+#include "cga_rigid_sim/cga/motor.h"
+#include "cga_rigid_sim/dynamics/inertia.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+enum class JointKind { kRevolute, kPrismatic };
+
+/// One joint and the link it moves (its child).
+struct TreeJoint {
+  JointKind kind = JointKind::kRevolute;
+  int parent = 0;   ///< body index of the parent (0: the base), < own body index
+  cga::Motor M_PJ;  ///< joint frame J in the parent body's frame (fixed base: in the world)
+  cga::Motor M_JC;  ///< the child's frame in J
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();          ///< unit, in J
+  Inertia inertia = Inertia::unit();                        ///< the child link's
+  double damping = 0.0;                                     ///< viscous, N m s/rad or N s/m
+  double friction = 0.0;                                    ///< Coulomb, N m or N
+  double lower = -std::numeric_limits<double>::infinity();  ///< position limits
+  double upper = std::numeric_limits<double>::infinity();
+  double effort_limit = std::numeric_limits<double>::infinity();
+  bool hasLimits() const {
+    return lower > -std::numeric_limits<double>::infinity() ||
+           upper < std::numeric_limits<double>::infinity();
+  }
+};
+
+/// The constant part of a tree.
+class ArticulatedBody {
+ public:
+  /// A fixed-base tree (base_inertia empty) or a floating-base one. Joints parent first.
+  ArticulatedBody(std::optional<Inertia> base_inertia, std::vector<TreeJoint> joints,
+                  double lambda);
+
+  bool floating() const { return base_.has_value(); }
+  const std::optional<Inertia>& baseInertia() const { return base_; }
+  const std::vector<TreeJoint>& joints() const { return joints_; }
+  double lambda() const { return lambda_; }
+  int jointCount() const { return static_cast<int>(joints_.size()); }
+  int bodyCount() const { return jointCount() + 1; }
+  /// Generalized velocity coordinates: 6 + n (floating) or n.
+  int velocityCount() const { return (floating() ? 6 : 0) + jointCount(); }
+  /// Where joint k's rate sits in ν.
+  int velocityIndex(int k) const { return (floating() ? 6 : 0) + k; }
+  /// Joint k's unit screw in J, S = (axis, 0) or (0, axis/λ).
+  const cga::Bivelocity& screwInJoint(int k) const { return S_J_[k]; }
+  /// Joint k's screw in its child's frame, s = M_JC⁻¹ S M_JC (constant: the joint motion
+  /// exp(−½ q S) commutes with S).
+  const cga::Bivelocity& screwInChild(int k) const { return s_C_[k]; }
+  /// Inertia of body b (b ≥ 1, or 0 for a floating base).
+  const Inertia& inertiaOf(int b) const { return b == 0 ? *base_ : joints_[b - 1].inertia; }
+  /// Parent body of body b ≥ 1.
+  int parentOf(int b) const { return joints_[b - 1].parent; }
+
+ private:
+  std::optional<Inertia> base_;
+  std::vector<TreeJoint> joints_;
+  double lambda_ = 1.0;
+  std::vector<cga::Bivelocity> S_J_, s_C_;
+};
+
+/// The changing part of a tree: base pose and velocity (a fixed base keeps M_W0 = 1, Ω_0 = 0),
+/// joint positions and rates.
+struct TreeState {
+  cga::Motor M_W0;
+  cga::Bivelocity omega_0;
+  Eigen::VectorXd q, v;
+  bool allFinite() const {
+    return M_W0.allFinite() && omega_0.allFinite() && q.allFinite() && v.allFinite();
+  }
+};
+
+/// Per body b: pose M_Wb, motor to the parent's frame M_pb (b ≥ 1), bivelocity Ω_b.
+struct TreeKinematics {
+  std::vector<cga::Motor> M_W, M_P;
+  std::vector<cga::Bivelocity> omega;
+  void resize(int bodies);
+};
+
+/// Poses and velocities of every body at `state`.
+void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
+
+/// Generalized velocity ν of a state, and back.
+Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state);
+void setVelocityVector(const ArticulatedBody& tree, const Eigen::VectorXd& nu, TreeState& state);
+
+/// The external trivector moments on each body (body frame, about its centre of mass): what
+/// gravity and applied loads exert; size bodyCount() (entry 0 unused for a fixed base).
+using BodyMoments = std::vector<cga::Moment>;
+
+/// Gravity on every body at the poses of `kin`: (0, λ m R̃ g).
+void gravityMoments(const ArticulatedBody& tree, const TreeKinematics& kin,
+                    const Eigen::Vector3d& g_W, BodyMoments& out);
+
+/// RNEA: the generalized forces (base wrench in body-0 frame, then joint efforts) that give the
+/// accelerations ν̇ at the state of `kin` under the external moments: M(q) ν̇ + bias − Jᵀ f_ext.
+/// For a floating base the first 6 entries are the wrench the base would need (zero when ν̇
+/// is the motion the tree makes on its own).
+Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& state,
+                                const TreeKinematics& kin, const Eigen::VectorXd& nu_dot,
+                                const BodyMoments& f_ext);
+
+/// ABA: the accelerations ν̇ under joint efforts `tau` (size n) and external moments, O(n).
+Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& state,
+                                const TreeKinematics& kin, const Eigen::VectorXd& tau,
+                                const BodyMoments& f_ext);
+
+/// CRBA: the mass matrix M(q) (symmetric positive definite), kinetic energy ½ νᵀ M ν.
+void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M);
+
+/// The momentum map ∂L/∂ν = M ν: per joint p_k = ⟨H_k, s_k⟩ with H_k the momentum of the
+/// subtree below joint k in the child's frame; for a floating base the first 6 entries are the
+/// whole tree's momentum in the base frame. Also returns, through `gradient` (may be null), the
+/// gradient of the Lagrangian in q at fixed ν plus the generalized external forces:
+///   ∂L/∂q_k + Q_k = ⟨H_k, s_k × Ω_{k+1}⟩ + ⟨F_k, s_k⟩,
+/// with F_k the external moments on the subtree in the child's frame (doc/articulated.md).
+Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
+                                    const BodyMoments& f_ext, Eigen::VectorXd* gradient);
+
+/// Total momentum of the tree in world axes (the trivector about the world origin) and its
+/// kinetic energy.
+cga::Moment worldMomentum(const ArticulatedBody& tree, const TreeKinematics& kin);
+double kineticEnergy(const ArticulatedBody& tree, const TreeKinematics& kin);
+
+/// 6×6 matrix of the adjoint action B ↦ M B M̃ on bivector coefficients (e23, e31, e12, e1n,
+/// e2n, e3n); on trivector coefficients the action is its inverse transpose.
+Eigen::Matrix<double, 6, 6> adjointMatrix(const cga::Motor& M, double lambda);
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

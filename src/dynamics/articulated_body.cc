@@ -1,0 +1,77 @@
+// ArticulatedBody: the tree's constants and its forward kinematics (doc/articulated.md).
+#include "cga_rigid_sim/dynamics/articulated_body.h"
+
+#include "tree_math.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+ArticulatedBody::ArticulatedBody(std::optional<Inertia> base_inertia, std::vector<TreeJoint> joints,
+                                 double lambda)
+    : base_(std::move(base_inertia)), joints_(std::move(joints)), lambda_(lambda) {
+  for (const TreeJoint& j : joints_) {
+    const Eigen::Vector3d a = j.axis.normalized();
+    const cga::Bivelocity S = j.kind == JointKind::kRevolute
+                                  ? cga::Bivelocity(a, Eigen::Vector3d::Zero())
+                                  : cga::Bivelocity(Eigen::Vector3d::Zero(), a / lambda_);
+    S_J_.push_back(S);
+    s_C_.push_back(j.M_JC.reverse().apply(S));
+  }
+}
+
+void TreeKinematics::resize(int bodies) {
+  M_W.resize(bodies);
+  M_P.resize(bodies);
+  omega.resize(bodies);
+}
+
+void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
+  const int n = tree.jointCount();
+  kin.resize(n + 1);
+  kin.M_W[0] = tree.floating() ? state.M_W0 : cga::Motor();
+  kin.omega[0] = tree.floating() ? state.omega_0 : cga::Bivelocity();
+  for (int k = 0; k < n; ++k) {
+    const TreeJoint& j = tree.joints()[k];
+    const int b = k + 1, p = j.parent;
+    // The child's frame in the parent's: M_pb = M_PJ exp(−½ q S) M_JC.
+    kin.M_P[b] = j.M_PJ * cga::exp(tree.screwInJoint(k) * (-0.5 * state.q[k])) * j.M_JC;
+    kin.M_W[b] = kin.M_W[p] * kin.M_P[b];
+    // Ω_b = M_bp Ω_p M̃_bp + q̇ s (doc/articulated.md (A2)).
+    kin.omega[b] = kin.M_P[b].reverse().apply(kin.omega[p]) + tree.screwInChild(k) * state.v[k];
+  }
+}
+
+Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state) {
+  Eigen::VectorXd nu(tree.velocityCount());
+  if (tree.floating()) nu.head<6>() = tree_math::vec(state.omega_0);
+  nu.tail(tree.jointCount()) = state.v;
+  return nu;
+}
+
+void setVelocityVector(const ArticulatedBody& tree, const Eigen::VectorXd& nu, TreeState& state) {
+  if (tree.floating()) state.omega_0 = tree_math::bivector(nu.head<6>());
+  state.v = nu.tail(tree.jointCount());
+}
+
+void gravityMoments(const ArticulatedBody& tree, const TreeKinematics& kin,
+                    const Eigen::Vector3d& g_W, BodyMoments& out) {
+  const double lambda = tree.lambda();
+  out.assign(tree.bodyCount(), cga::Moment());
+  for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+    out[b].trans = (lambda * tree.inertiaOf(b).mass()) * (kin.M_W[b].rotation().conjugate() * g_W);
+}
+
+Eigen::Matrix<double, 6, 6> adjointMatrix(const cga::Motor& M, double lambda) {
+  // M maps x ↦ R x + a; a bivector (w, u) goes to (R w, R u + (a/λ) × R w)
+  // (doc/articulated.md (A1); test/dynamics checks it against Motor::apply).
+  const Eigen::Matrix3d R = M.rotation().toRotationMatrix();
+  const Eigen::Vector3d a = M.translation(lambda) / lambda;
+  Eigen::Matrix3d ax;
+  ax << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  Eigen::Matrix<double, 6, 6> X;
+  X << R, Eigen::Matrix3d::Zero(), ax * R, R;
+  return X;
+}
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

@@ -1,0 +1,51 @@
+// JointRows: the unilateral and frictional joint forces of a tree step — position limits and
+// Coulomb friction — as impulses y on the joint rates, solved by projected Gauss–Seidel over the
+// few joints concerned (doc/articulated.md#limits-and-friction). Internal to the tree integrators.
+//
+// Given the step's linear system A⁻¹ ν̄ = r (A⁻¹ = M + ½hC, factored), ν̄ moves to ν̄ + A y with
+//   limits:   q + h ν̄_k ≥ lower (y_k ≥ 0), q + h ν̄_k ≤ upper (y_k ≤ 0), complementary;
+//   friction: |y_k| ≤ ½ h F_k, opposing ν̄_k, ν̄_k = 0 while |y_k| < ½ h F_k (sticking).
+// Joints a limit or friction holds are "held": at the end of the step their rates are set to
+// zero by a further impulse (stopHeld), so a stop is inelastic and a stuck joint does not
+// jitter. Both impulses are projections in the metric of M: kinetic energy never grows.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <vector>
+
+#include "cga_rigid_sim/dynamics/articulated_body.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+class JointRows {
+ public:
+  /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
+  void solve(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
+             const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar);
+  /// Positions within the limits (removes the round-off of q + h ν̄ at a stop).
+  void clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const;
+  /// Sets the rates of held joints to zero with the impulse that does it in the metric of M
+  /// (llt: M at the new pose). Returns whether anything was held.
+  bool stopHeld(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
+                Eigen::VectorXd& nu) const;
+  /// Joints held in the last solve (velocity indices).
+  const std::vector<int>& held() const { return held_; }
+
+ private:
+  enum class Kind { kLower, kUpper, kFriction };
+  struct Row {
+    int index;  // velocity index
+    Kind kind;
+    double target;  // limits: the rate that reaches the limit in h
+    double bound;   // friction: ½ h F
+    double y = 0.0;
+  };
+  std::vector<Row> rows_;
+  std::vector<int> held_;
+  std::vector<Eigen::VectorXd> columns_;
+};
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

@@ -1,0 +1,55 @@
+// Tree integrators by name, the loads on a tree's bodies, and the response to an impulse
+// (tree_integrator.h).
+#include <Eigen/Cholesky>
+
+#include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "tree_integrators.h"
+#include "tree_math.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+const std::vector<std::string>& treeIntegratorNames() {
+  static const std::vector<std::string> names{"auto", "cga2", "cga4", "rk4", "euler"};
+  return names;
+}
+
+Result<std::unique_ptr<TreeIntegrator>> makeTreeIntegrator(const std::string& name) {
+  if (name == "auto" || name == "cga2") return makeMidpointTreeIntegrator(false);
+  if (name == "cga4") return makeMidpointTreeIntegrator(true);
+  if (name == "rk4") return makeExplicitTreeIntegrator(true);
+  if (name == "euler") return makeExplicitTreeIntegrator(false);
+  if (name == "exact")
+    return Error("integrator", "",
+                 "'exact' has no form for articulated trees (a tree has no closed-form flow); "
+                 "use auto (the default), cga2, cga4, rk4 or euler");
+  return Error("integrator", "",
+               "unknown integrator '" + name + "' for trees (auto, cga2, cga4, rk4, euler)");
+}
+
+void externalMoments(const ArticulatedBody& tree, const TreeKinematics& kin, const TreeLoads& loads,
+                     BodyMoments& out) {
+  gravityMoments(tree, kin, loads.gravity_W, out);
+  for (int b = 0; b < tree.bodyCount() && b < static_cast<int>(loads.applied.size()); ++b)
+    if (loads.applied[b] && (b > 0 || tree.floating()))
+      out[b] += loads.applied[b]->appliedMoment_B(kin.M_W[b], tree.lambda());
+}
+
+Eigen::VectorXd impulseResponse(const ArticulatedBody& tree, const TreeState& state, int body,
+                                const cga::Moment& T_b) {
+  TreeState still = state;
+  setVelocityVector(tree, Eigen::VectorXd::Zero(tree.velocityCount()), still);
+  TreeKinematics kin;
+  treeKinematics(tree, still, kin);
+  BodyMoments f(tree.bodyCount());
+  f[body] = T_b;
+  // RNEA at rest with no acceleration returns −Jᵀ T: the generalized impulse, negated.
+  const Eigen::VectorXd g =
+      -inverseDynamics(tree, still, kin, Eigen::VectorXd::Zero(tree.velocityCount()), f);
+  Eigen::MatrixXd M;
+  massMatrix(tree, kin, M);
+  return M.llt().solve(g);
+}
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

@@ -1,0 +1,122 @@
+// Joint-effort inputs and joint states (joint_efforts.h).
+#include "joint_efforts.h"
+
+#include <cmath>
+#include <set>
+
+#include "cga_rigid_sim/format.h"
+#include "input_admission.h"
+#include "input_rules.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+namespace {
+
+Result<std::pair<int, int>> findJoint(const Model& model, const std::string& input,
+                                      const std::string& field, const std::string& name) {
+  const auto it = model.joint_by_name.find(name);
+  if (it == model.joint_by_name.end()) {
+    std::string known;
+    for (const auto& kv : model.joint_by_name) {
+      if (known.size() > 200) {
+        known += ", …";
+        break;
+      }
+      known += (known.empty() ? "'" : ", '") + kv.first + "'";
+    }
+    return Error(input, field,
+                 "unknown joint '" + name + "'" +
+                     (known.empty() ? std::string(" (the scene has no joints)")
+                                    : " (joints: " + known + ")"));
+  }
+  return it->second;
+}
+
+}  // namespace
+
+Result<bool> queueJointEfforts(const Model& model, Data& data, const JointEffortInput& in) {
+  const std::string what = "joint_efforts";
+  if (in.names.size() != in.efforts.size())
+    return Error(what, "effort",
+                 "has " + std::to_string(in.efforts.size()) + " entries for " +
+                     std::to_string(in.names.size()) + " names (one effort per name)");
+  if (!std::isfinite(in.stamp)) return Error(what, "stamp", "not finite (" + num(in.stamp) + ")");
+  auto k = stepOf(model, data, what, in.stamp);
+  if (!k) return Error(what, "stamp", k.failure().rule);
+  std::vector<QueuedInput> out;
+  std::set<std::string> seen;
+  for (std::size_t n = 0; n < in.names.size(); ++n) {
+    const std::string field = "name[" + std::to_string(n) + "]";
+    auto joint = findJoint(model, what, field, in.names[n]);
+    if (!joint) return joint.failure();
+    if (!seen.insert(in.names[n]).second)
+      return Error(what, field, "joint '" + in.names[n] + "' given twice");
+    if (!std::isfinite(in.efforts[n]))
+      return Error(what, "effort[" + std::to_string(n) + "]",
+                   "not finite (" + num(in.efforts[n]) + ")");
+    QueuedInput q;
+    q.kind = QueuedInput::Kind::kHeldEffort;
+    q.step = *k;
+    q.tree = joint->first;
+    q.joint = joint->second;
+    q.effort = in.efforts[n];
+    out.push_back(q);
+  }
+  for (const QueuedInput& q : out) data.queue.push(q);
+  return true;
+}
+
+Result<bool> queueTimedJointEffort(const Model& model, Data& data,
+                                   const TimedJointEffortInput& in) {
+  const std::string what = "apply_joint_effort";
+  auto joint = findJoint(model, what, "joint", in.joint);
+  if (!joint) return joint.failure();
+  if (auto e = checkFinite(what, "effort", in.effort)) return *e;
+  if (auto e = checkFinite(what, "duration", in.duration)) return *e;
+  auto k = stepOf(model, data, what, in.start_time);
+  if (!k) return k.failure();
+  std::uint64_t steps = 1;  // the duration rules of wrenches (world.h)
+  if (in.duration < 0) {
+    steps = 0;
+  } else if (in.duration > 0) {
+    const double n = std::floor(in.duration / model.config.dt + 0.5 + kStepTolerance);
+    if (n > kMaxSteps)
+      return Error(what, "duration",
+                   num(in.duration) + " s is more than " + num(kMaxSteps) +
+                       " steps (use a negative duration: until cleared)");
+    steps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(n));
+  }
+  QueuedInput q;
+  q.kind = QueuedInput::Kind::kTimedEffort;
+  q.step = *k;
+  q.tree = joint->first;
+  q.joint = joint->second;
+  q.effort = in.effort;
+  q.steps = steps;
+  TreeData& td = data.trees[q.tree];
+  td.timed.reserve(td.timed.size() + data.queue.size() + 1);  // the step does not allocate
+  data.queue.push(q);
+  return true;
+}
+
+std::vector<JointStateReport> jointStateReports(const Model& model, const Data& data) {
+  std::vector<JointStateReport> out;
+  for (std::size_t t = 0; t < model.trees.size(); ++t) {
+    const TreeModel& tm = model.trees[t];
+    const TreeData& td = data.trees[t];
+    for (int k = 0; k < tm.body.jointCount(); ++k) {
+      JointStateReport r;
+      r.name = model.scene.joints[tm.scene_joint[k]].name;
+      r.position = td.state.q[k];
+      r.velocity = td.state.v[k];
+      r.effort = td.loads.effort[k];
+      r.clamped_steps = td.clamped_steps[k];
+      out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
