@@ -4,6 +4,8 @@
 #   bench/peers/run_peers.sh            # build/peers, results in bench/out
 #   bench/peers/run_peers.sh --contacts # the contact benchmark instead (peer_contacts_<engine>,
 #                                       # bench/out/contacts_<engine>.csv, doc/benchmarks-contacts.md)
+#   bench/peers/run_peers.sh --articulated  # the articulated benchmark (peer_articulated_<engine>,
+#                                       # bench/out/articulated_<engine>.csv, doc/benchmarks-articulated.md)
 #
 # Environment: PEER_BUILD_DIR (default <repo>/build/peers), PEER_OUT_DIR
 # (default <repo>/bench/out), PEER_JOBS (default 2: two runners at a time,
@@ -22,8 +24,12 @@
 set -euo pipefail
 
 contacts=false
+articulated=false
 if [[ "${1:-}" == "--contacts" ]]; then
   contacts=true
+  shift
+elif [[ "${1:-}" == "--articulated" ]]; then
+  articulated=true
   shift
 fi
 
@@ -69,6 +75,46 @@ if $contacts; then
     echo "# load average (1/5/15 min) at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
   } >"$out/contacts_versions.txt"
   cat "$out/contacts_versions.txt"
+  exit 0
+fi
+
+if $articulated; then
+  # Articulated cases: Simbody (the slowest) in one lane, the others in the second lane
+  # (PEER_JOBS=1: one after another). The truth is computed once first (--prepare, ~30 s), so
+  # that the lanes do not race to fill its cache. Extra arguments go to every runner (e.g.
+  # --cases arm7 --hs 1e-3).
+  cmake --build "$build" -j2 --target peer_articulated_benchmarks >/dev/null
+  engines="${PEER_ENGINES:-simbody mujoco bullet dart ode}"
+  arunners=()
+  for e in $engines; do
+    if [[ -x "$build/peer_articulated_$e" ]]; then arunners+=("$e"); else echo "peer_articulated_$e not built: skipped"; fi
+  done
+  if [[ ${#arunners[@]} -eq 0 ]]; then echo "no articulated runner built"; exit 1; fi
+  t0=$(date +%s)
+  load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
+  "$build/peer_articulated_${arunners[0]}" --out "$out" --prepare "$@"
+  run_articulated() {
+    local e="$1"
+    shift
+    "$build/peer_articulated_$e" --out "$out" "$@" 2>"$out/articulated_$e.log" || echo "peer_articulated_$e failed (see $out/articulated_$e.log)"
+  }
+  if [[ "$jobs" -ge 2 && ${#arunners[@]} -ge 2 ]]; then
+    ( run_articulated "${arunners[0]}" "$@" ) &
+    lane1=$!
+    for e in "${arunners[@]:1}"; do run_articulated "$e" "$@"; done
+    wait "$lane1"
+  else
+    for e in "${arunners[@]}"; do run_articulated "$e" "$@"; done
+  fi
+  {
+    echo "# articulated peer run $(date -u +%Y-%m-%dT%H:%M:%SZ), wall $(( $(date +%s) - t0 )) s, PEER_JOBS=$jobs"
+    dpkg-query -W -f='${Package} ${Version}\n' libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev 2>/dev/null || true
+    for e in "${arunners[@]}"; do "$build/peer_articulated_$e" --version; done
+    echo "# compiler: $(${CXX:-c++} --version | head -n1)"
+    echo "# cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores"
+    echo "# load average (1/5/15 min) at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  } >"$out/articulated_versions.txt"
+  cat "$out/articulated_versions.txt"
   exit 0
 fi
 
