@@ -52,6 +52,8 @@ run.sh: the simulator runs (roslaunch cga_rigid_sim sim.launch $*). In another t
   roslaunch cga_rigid_sim record.launch bag:=run.bag      # record a bag
 Other scenes: bash scripts/run.sh scene:=thin_rod (symmetric_top, dumbbell, projectile,
 t_handle, many_bodies); every sim.launch argument works. README: "The simulator node".
+Articulated robots: scene:=double_pendulum, scene:=arm7, scene:=satellite gravity:="[0, 0, 0]";
+  rostopic echo /joint_states; README: "Articulated robots".
 EOF
   }
   hints

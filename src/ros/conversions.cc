@@ -171,6 +171,24 @@ Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
   return in;
 }
 
+sim::JointEffortInput toJointEffortInput(const sensor_msgs::JointState& msg) {
+  sim::JointEffortInput in;
+  in.names = msg.name;
+  in.efforts = msg.effort;
+  in.stamp = toSimTime(msg.header.stamp);
+  return in;
+}
+
+sim::TimedJointEffortInput toTimedJointEffortInput(
+    const cga_rigid_sim::ApplyJointEffort::Request& req) {
+  sim::TimedJointEffortInput in;
+  in.joint = req.joint;
+  in.effort = req.effort;
+  in.start_time = req.start_time;
+  in.duration = req.duration;
+  return in;
+}
+
 std::string refusalText(const Error& core, const std::string& topic) {
   if (core.input.empty()) return core.message();
   // (topic, core field, message field); fields not listed keep their name.
@@ -192,8 +210,9 @@ std::string refusalText(const Error& core, const std::string& topic) {
       {"wrench", "start_time", "header.stamp"},
       {"wrench", "frame", "header.frame_id"},
       {"wrench", "body", "header.frame_id"},
+      {"joint_efforts", "stamp", "header.stamp"},
   };
-  // The field's first name is renamed; a sub-field (".x") stays.
+  // The field's first name is renamed; a sub-field (".x") or an index ("name[1]") stays.
   const std::size_t dot = core.field.find('.');
   const std::string head = core.field.substr(0, dot);
   const std::string rest = dot == std::string::npos ? "" : core.field.substr(dot);
@@ -294,6 +313,23 @@ cga_rigid_sim::ContactArray toContactArrayMsg(const std::vector<sim::ContactRepo
                                               const std::string& world_frame) {
   return toArrayMsg(reports, stamp, world_frame, &cga_rigid_sim::ContactArray::contacts,
                     toContactMsg);
+}
+
+sensor_msgs::JointState toJointStateMsg(const std::vector<sim::JointStateReport>& reports,
+                                        const ::ros::Time& stamp) {
+  sensor_msgs::JointState msg;
+  msg.header.stamp = stamp;
+  msg.name.reserve(reports.size());
+  msg.position.reserve(reports.size());
+  msg.velocity.reserve(reports.size());
+  msg.effort.reserve(reports.size());
+  for (const auto& r : reports) {
+    msg.name.push_back(r.name);
+    msg.position.push_back(r.position);
+    msg.velocity.push_back(r.velocity);
+    msg.effort.push_back(r.effort);
+  }
+  return msg;
 }
 
 geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,

@@ -46,6 +46,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       output_ticks_(world_->config().dt, params.publish_rate),
       clock_ticks_(world_->config().dt, params.clock_rate),
       pacer_(world_->config().dt, params.real_time_factor),
+      has_joints_(!world_->scene().joints.empty()),
       paused_(params.paused) {
   // tf and /clock keep their global names (remappable as usual); the rest is private.
   tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", kOutputQueueSize);
@@ -56,12 +57,18 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   body_states_pub_ = pnh_.advertise<cga_rigid_sim::BodyStateArray>("body_states", kOutputQueueSize);
   contacts_pub_ = pnh_.advertise<cga_rigid_sim::ContactArray>("contacts", kOutputQueueSize);
   rejected_pub_ = pnh_.advertise<std_msgs::UInt64>("rejected_inputs", 1, /*latch=*/true);
+  // /joint_states keeps its global name too (robot_state_publisher and rviz listen there), and
+  // exists only for a scene with joints: a node of free bodies is no source of joint states.
+  if (has_joints_)
+    joint_states_pub_ = nh_.advertise<sensor_msgs::JointState>("/joint_states", kOutputQueueSize);
 
   subscribers_.push_back(
       pnh_.subscribe("apply_wrench", kInputQueueSize, &Simulator::onApplyWrench, this));
   subscribers_.push_back(
       pnh_.subscribe("apply_impulse", kInputQueueSize, &Simulator::onApplyImpulse, this));
   subscribers_.push_back(pnh_.subscribe("wrench", kInputQueueSize, &Simulator::onWrench, this));
+  subscribers_.push_back(
+      pnh_.subscribe("joint_efforts", kInputQueueSize, &Simulator::onJointEfforts, this));
 
   services_.push_back(pnh_.advertiseService("pause", &Simulator::onPause, this));
   services_.push_back(pnh_.advertiseService("unpause", &Simulator::onUnpause, this));
@@ -72,6 +79,8 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("set_body_state", &Simulator::onSetBodyState, this));
   services_.push_back(pnh_.advertiseService("spawn_urdf", &Simulator::onSpawnUrdf, this));
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
+  services_.push_back(
+      pnh_.advertiseService("apply_joint_effort", &Simulator::onApplyJointEffort, this));
 }
 
 // ---- main loop ----
@@ -89,11 +98,12 @@ int Simulator::run() {
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
                                 : "every step";
   ROS_INFO(
-      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states and "
-      "contacts at %g Hz; /clock %s%s",
+      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states, "
+      "contacts%s at %g Hz; /clock %s%s",
       world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
       params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
-      params_.publish_rate, clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
+      has_joints_ ? " and /joint_states" : "", params_.publish_rate, clock.c_str(),
+      paused_ ? "; paused (call ~unpause, or ~step)" : "");
 
   const sim::WorldConfig& config = world_->config();
   const std::string plane =
@@ -198,6 +208,8 @@ void Simulator::publishOutputs() {
     body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
   if (contacts_pub_.getNumSubscribers() > 0)
     contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
+  if (has_joints_ && joint_states_pub_.getNumSubscribers() > 0)
+    joint_states_pub_.publish(toJointStateMsg(world_->jointStates(), stamp));
 }
 
 void Simulator::publishClock() {
@@ -275,6 +287,12 @@ void Simulator::onWrench(const geometry_msgs::WrenchStamped::ConstPtr& msg) {
   if (!in) return refuse("wrench", in.error());
   auto ok = world_->applyWrench(*in);
   if (!ok) refuse("wrench", refusalText(ok.failure(), "wrench"));
+}
+
+void Simulator::onJointEfforts(const sensor_msgs::JointState::ConstPtr& msg) {
+  // Refused as a whole (nothing applied), counted once, warned with the World's reason.
+  auto ok = world_->setJointEfforts(toJointEffortInput(*msg));
+  if (!ok) refuse("joint_efforts", refusalText(ok.failure(), "joint_efforts"));
 }
 
 // ---- services ----
@@ -370,6 +388,17 @@ bool Simulator::onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
   }
   publishStaticFrames();
   ROS_INFO("simulator: deleted '%s'", req.body.c_str());
+  return true;
+}
+
+bool Simulator::onApplyJointEffort(cga_rigid_sim::ApplyJointEffort::Request& req,
+                                   cga_rigid_sim::ApplyJointEffort::Response& res) {
+  auto ok = world_->applyJointEffort(toTimedJointEffortInput(req));
+  res.success = ok.ok();
+  if (!ok) {
+    res.message = refusalText(ok.failure(), "apply_joint_effort");
+    refuse("apply_joint_effort", res.message);
+  }
   return true;
 }
 

@@ -13,6 +13,7 @@
 // inputs into a fresh paused node driven by ~step reproduces a run bit for bit.
 #pragma once
 
+#include <cga_rigid_sim/ApplyJointEffort.h>
 #include <cga_rigid_sim/CgaImpulse.h>
 #include <cga_rigid_sim/CgaWrench.h>
 #include <cga_rigid_sim/DeleteBody.h>
@@ -22,6 +23,7 @@
 #include <cga_rigid_sim/Step.h>
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
 #include <std_srvs/Empty.h>
 
 #include <chrono>
@@ -65,8 +67,9 @@ class Simulator {
   /// shutdown.
   void advance(std::uint64_t n);
   void publishAfterStep();
-  /// tf (moving frames), momentum, body states and contacts at the current step, unless tf for
-  /// this stamp was already sent (tf2 must never see the same stamp twice).
+  /// tf (moving frames), momentum, body states, contacts and (scenes with joints) joint states
+  /// at the current step, unless tf for this stamp was already sent (tf2 must never see the
+  /// same stamp twice).
   void publishOutputs();
   void publishClock();
   /// The latched /tf_static: every static frame in one message (resent when bodies change).
@@ -84,6 +87,7 @@ class Simulator {
   void onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg);
   void onApplyImpulse(const cga_rigid_sim::CgaImpulse::ConstPtr& msg);
   void onWrench(const geometry_msgs::WrenchStamped::ConstPtr& msg);
+  void onJointEfforts(const sensor_msgs::JointState::ConstPtr& msg);
   bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
@@ -96,6 +100,8 @@ class Simulator {
   bool onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req, cga_rigid_sim::SpawnUrdf::Response& res);
   bool onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
                     cga_rigid_sim::DeleteBody::Response& res);
+  bool onApplyJointEffort(cga_rigid_sim::ApplyJointEffort::Request& req,
+                          cga_rigid_sim::ApplyJointEffort::Response& res);
 
   ::ros::NodeHandle nh_, pnh_;
   NodeParams params_;
@@ -104,6 +110,9 @@ class Simulator {
   TickSchedule clock_ticks_;
   RealTimePacer pacer_;
 
+  /// The scene has articulated joints: /joint_states is advertised and published. Fixed at
+  /// start (~spawn_urdf adds single bodies only, so the set of joints never changes).
+  bool has_joints_ = false;
   bool paused_ = false;
   bool disturbed_ = false;
   std::uint64_t rejected_ = 0;
@@ -122,6 +131,7 @@ class Simulator {
 
   ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
   ::ros::Publisher momentum_pub_, body_states_pub_, contacts_pub_, rejected_pub_;
+  ::ros::Publisher joint_states_pub_;
   std::vector<::ros::Subscriber> subscribers_;
   std::vector<::ros::ServiceServer> services_;
 };

@@ -4,7 +4,8 @@ types, and README.md documents every entry of it.
 
 Truth: the manifest (the public contract). The master's system state lists what the node
 registered; roscpp's own ~get_loggers, ~set_logger_level and /rosout are not part of the
-contract and are ignored.
+contract and are ignored. Two nodes run: /simulator on a scene of free bodies, and
+/simulator_joints on the double pendulum, which adds the manifest's publishes_with_joints.
 """
 import os
 import sys
@@ -21,11 +22,15 @@ sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from sim_test_util import wait_until  # noqa: E402
 
 NODE = '/simulator'
-ROSCPP_EXTRAS = {'/rosout', NODE + '/get_loggers', NODE + '/set_logger_level'}
+JOINTS_NODE = '/simulator_joints'  # the same node on a scene with joints
 
 
-def resolve(name):
-    return NODE + '/' + name[1:] if name.startswith('~') else name
+def roscpp_extras(node):
+    return {'/rosout', node + '/get_loggers', node + '/set_logger_level'}
+
+
+def resolve(name, node=NODE):
+    return node + '/' + name[1:] if name.startswith('~') else name
 
 
 class InterfaceTest(unittest.TestCase):
@@ -36,40 +41,45 @@ class InterfaceTest(unittest.TestCase):
         with open(os.path.join(cls.package, 'test', 'interface.yaml')) as f:
             cls.manifest = yaml.safe_load(f)
         cls.master = rosgraph.Master('/interface_test')
-        expected_services = [resolve(s) for s in cls.manifest['services']]
+        expected_services = [resolve(s, node) for s in cls.manifest['services']
+                             for node in (NODE, JOINTS_NODE)]
         # Everything is registered before the node's main loop starts; wait for the last.
         wait_until(lambda: all(rosservice.get_service_node(s) for s in expected_services),
                    what='every manifest service registered')
 
-    def node_state(self):
+    def node_state(self, node):
         publishers, subscribers, services = self.master.getSystemState()
 
         def of_node(entries):
-            return {name for name, nodes in entries if NODE in nodes} - ROSCPP_EXTRAS
+            return {name for name, nodes in entries if node in nodes} - roscpp_extras(node)
         return of_node(publishers), of_node(subscribers), of_node(services)
 
-    def test_published_topics_and_types(self):
-        expected = {resolve(t): ty for t, ty in self.manifest['publishes'].items()}
-        published, _, _ = self.node_state()
-        self.assertEqual(published, set(expected))
+    def assertTopics(self, node, actual, manifest_entries):
+        expected = {resolve(t, node): ty for t, ty in manifest_entries.items()}
+        self.assertEqual(actual, set(expected), node)
         types = dict(self.master.getTopicTypes())
         for topic, ty in expected.items():
             self.assertEqual(types.get(topic), ty, topic)
+
+    def test_published_topics_and_types(self):
+        self.assertTopics(NODE, self.node_state(NODE)[0], self.manifest['publishes'])
+
+    def test_a_scene_with_joints_also_publishes_joint_states(self):
+        expected = dict(self.manifest['publishes'])
+        expected.update(self.manifest['publishes_with_joints'])
+        self.assertTopics(JOINTS_NODE, self.node_state(JOINTS_NODE)[0], expected)
 
     def test_subscribed_topics_and_types(self):
-        expected = {resolve(t): ty for t, ty in self.manifest['subscribes'].items()}
-        _, subscribed, _ = self.node_state()
-        self.assertEqual(subscribed, set(expected))
-        types = dict(self.master.getTopicTypes())
-        for topic, ty in expected.items():
-            self.assertEqual(types.get(topic), ty, topic)
+        for node in (NODE, JOINTS_NODE):
+            self.assertTopics(node, self.node_state(node)[1], self.manifest['subscribes'])
 
     def test_services_and_types(self):
-        expected = {resolve(s): ty for s, ty in self.manifest['services'].items()}
-        _, _, services = self.node_state()
-        self.assertEqual(services, set(expected))
-        for service, ty in expected.items():
-            self.assertEqual(rosservice.get_service_type(service), ty, service)
+        for node in (NODE, JOINTS_NODE):
+            expected = {resolve(s, node): ty for s, ty in self.manifest['services'].items()}
+            _, _, services = self.node_state(node)
+            self.assertEqual(services, set(expected), node)
+            for service, ty in expected.items():
+                self.assertEqual(rosservice.get_service_type(service), ty, service)
 
     def test_latched_topics_answer_a_late_subscriber(self):
         # ~rejected_inputs is latched: a subscriber that comes late still gets the count (0).
@@ -82,8 +92,9 @@ class InterfaceTest(unittest.TestCase):
             readme = f.read()
         self.assertTrue('## The simulator node' in readme,
                         'README.md has no section "## The simulator node"')
-        names = (list(self.manifest['publishes']) + list(self.manifest['subscribes']) +
-                 list(self.manifest['services']) + list(self.manifest['parameters']))
+        names = (list(self.manifest['publishes']) + list(self.manifest['publishes_with_joints']) +
+                 list(self.manifest['subscribes']) + list(self.manifest['services']) +
+                 list(self.manifest['parameters']))
         missing = [n for n in names if n.lstrip('~') not in readme]
         self.assertEqual(missing, [], 'README.md does not mention these interface names')
 

@@ -64,8 +64,9 @@ std::vector<fs::path> exampleScenes() {
 TEST(LinkPose, ExampleScenesExist) {
   std::vector<std::string> names;
   for (const auto& f : exampleScenes()) names.push_back(f.stem().string());
-  for (const char* expected : {"tennis_racket", "symmetric_top", "thin_rod", "dumbbell",
-                               "projectile", "t_handle", "many_bodies", "tabletop"})
+  for (const char* expected :
+       {"tennis_racket", "symmetric_top", "thin_rod", "dumbbell", "projectile", "t_handle",
+        "many_bodies", "tabletop", "double_pendulum", "arm7", "satellite"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
 }
 

@@ -10,6 +10,7 @@
 // zero stamp means "the next step" for inputs (sim/inputs.h).
 #pragma once
 
+#include <cga_rigid_sim/ApplyJointEffort.h>
 #include <cga_rigid_sim/BodyState.h>
 #include <cga_rigid_sim/BodyStateArray.h>
 #include <cga_rigid_sim/CgaImpulse.h>
@@ -26,6 +27,7 @@
 #include <geometry_msgs/Vector3.h>
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/time.h>
+#include <sensor_msgs/JointState.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <Eigen/Core>
@@ -81,12 +83,22 @@ Result<sim::ImpulseInput> toImpulseInput(const cga_rigid_sim::CgaImpulse& msg,
 Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
                                        const scene::Scene& scene, const std::string& topic);
 
+/// sensor_msgs/JointState → held joint efforts: `name`, `effort` and header.stamp (simulation
+/// time to take effect, zero = the next step); `position` and `velocity` are ignored (an effort
+/// command, as ros_control's effort controllers take it). Never refuses: World checks the
+/// lengths, the names, finiteness and the stamp (sim/inputs.h JointEffortInput).
+sim::JointEffortInput toJointEffortInput(const sensor_msgs::JointState& msg);
+/// The ~apply_joint_effort request as a timed effort (the fields map one to one).
+sim::TimedJointEffortInput toTimedJointEffortInput(
+    const cga_rigid_sim::ApplyJointEffort::Request& req);
+
 /// The text of a World refusal as the user of `topic` reads it. The core's Error names its
 /// own input and fields (sim/inputs.h: apply_impulse.J, apply_wrench.couple, start_time,
-/// frame); this names the topic and the message's own field instead (apply_impulse.f,
-/// apply_wrench.torque, header.stamp, header.frame_id; for the plain `wrench` topic
-/// wrench.wrench.force, …), keeping the sub-field (".x") and the rule. `topic` is
-/// "apply_wrench", "apply_impulse" or "wrench"; an Error without input is its message.
+/// frame, joint_efforts.stamp); this names the topic and the message's own field instead
+/// (apply_impulse.f, apply_wrench.torque, header.stamp, header.frame_id; for the plain `wrench`
+/// topic wrench.wrench.force, …), keeping the sub-field (".x", "[2]") and the rule. `topic` is
+/// "apply_wrench", "apply_impulse", "wrench", "joint_efforts" or "apply_joint_effort" (whose
+/// request fields are the core's names); an Error without input is its message.
 std::string refusalText(const Error& core, const std::string& topic);
 
 /// What set_body_state and spawn_urdf carry: the root link's pose and the velocities of the
@@ -116,6 +128,11 @@ cga_rigid_sim::Contact toContactMsg(const sim::ContactReport& r);
 cga_rigid_sim::ContactArray toContactArrayMsg(const std::vector<sim::ContactReport>& reports,
                                               const ::ros::Time& stamp,
                                               const std::string& world_frame);
+/// Every joint of every tree (World::jointStates(), scene order) in one message, stamped in
+/// simulation time: name, position (rad or m), velocity, and effort = what the actuator applied
+/// in the last step (held + timed, clamped to <limit effort>; 0 before the first step).
+sensor_msgs::JointState toJointStateMsg(const std::vector<sim::JointStateReport>& reports,
+                                        const ::ros::Time& stamp);
 geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& frame,
                                                       const ::ros::Time& stamp);
 tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,

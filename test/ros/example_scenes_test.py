@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Every example scene starts with its initial state, as its launch file starts it.
+
+Truth: the files themselves. For each config/<scene>.yaml the node is started on
+urdf/<scene>.urdf with that file's `initial_state` (what launch/<scene>.launch loads): it must
+come up (its ~step service answers) and not refuse its start, so a name in a config that the
+URDF does not have, a joint key of a body, or a position outside the limits (a warning) is
+caught here rather than by a user's first roslaunch. A scene with joints must also advertise
+/joint_states with every joint its config names.
+"""
+import glob
+import os
+import signal
+import sys
+import unittest
+
+import rosgraph
+import rospkg
+import rospy
+import rostest
+import yaml
+from cga_rigid_sim.srv import Step
+from sensor_msgs.msg import JointState
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from sim_test_util import start_simulator, wait_until  # noqa: E402
+
+PACKAGE = rospkg.RosPack().get_path('cga_rigid_sim')
+
+
+def example_scenes():
+    """(scene, urdf path, initial_state dictionary) for every config/<scene>.yaml."""
+    out = []
+    for config in sorted(glob.glob(os.path.join(PACKAGE, 'config', '*.yaml'))):
+        scene = os.path.splitext(os.path.basename(config))[0]
+        with open(config) as f:
+            initial_state = yaml.safe_load(f)['initial_state']
+        out.append((scene, os.path.join(PACKAGE, 'urdf', scene + '.urdf'), initial_state))
+    return out
+
+
+class ExampleScenesTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('example_scenes_test')
+
+    def test_the_examples_are_there(self):
+        scenes = [s for s, _, _ in example_scenes()]
+        for expected in ['tennis_racket', 'symmetric_top', 'thin_rod', 'dumbbell', 'projectile',
+                         't_handle', 'many_bodies', 'tabletop', 'double_pendulum', 'arm7',
+                         'satellite']:
+            self.assertIn(expected, scenes)
+        for scene in scenes:
+            self.assertTrue(os.path.exists(os.path.join(PACKAGE, 'launch', scene + '.launch')),
+                            scene + ' has no launch file')
+
+    def test_every_example_scene_starts_with_its_initial_state(self):
+        master = rosgraph.Master('/example_scenes_test')
+        joint_states = []
+        sub = rospy.Subscriber('/joint_states', JointState, joint_states.append, queue_size=None)
+        for scene, urdf, initial_state in example_scenes():
+            name = 'example_' + scene
+            rospy.set_param('/%s/initial_state' % name, initial_state)
+            proc = start_simulator(name, '_urdf_file:=' + urdf, '_paused:=true',
+                                   '_publish_clock:=false')
+            try:
+                wait_until(lambda: proc.poll() is not None or
+                           any(s == '/%s/step' % name for s, _ in master.getSystemState()[2]),
+                           what=name + ' up')
+                if proc.poll() is not None:
+                    self.fail('%s did not start:\n%s' % (scene, proc.communicate()[0]))
+                # Joint entries hold numbers, body entries lists.
+                joints = [k for k, v in initial_state.items()
+                          if any(isinstance(x, (int, float)) for x in v.values())]
+                if joints:
+                    wait_until(lambda: sub.get_num_connections() > 0,
+                               what=name + "'s /joint_states connected")
+                    del joint_states[:]
+                rospy.ServiceProxy('/%s/step' % name, Step)(10)
+                if joints:
+                    wait_until(lambda: joint_states, what=name + "'s /joint_states")
+                    self.assertLessEqual(set(joints), set(joint_states[-1].name), scene)
+            finally:
+                out = ''
+                if proc.poll() is None:
+                    proc.send_signal(signal.SIGINT)
+                    out, _ = proc.communicate(timeout=10.0)
+                rospy.delete_param('/' + name)
+            self.assertNotIn('FATAL', out, '%s did not start:\n%s' % (scene, out))
+            self.assertNotIn('WARN', out, '%s warned at start:\n%s' % (scene, out))
+        sub.unregister()
+
+
+if __name__ == '__main__':
+    rostest.rosrun('cga_rigid_sim', 'example_scenes', ExampleScenesTest)
