@@ -216,6 +216,31 @@ TEST(Articulated, FloatingTreeTakesAnImpulseAndKeepsItsMomentum) {
   EXPECT_NE(w->jointStates()[1].velocity, 0.0);  // the panel does swing
 }
 
+TEST(Articulated, ClearWrenchesEndsTimedEffortsButNotHeldOnes) {
+  auto w = makeWorld(kDoublePendulum, {}, {}, Eigen::Vector3d::Zero());
+  JointEffortInput held;
+  held.names = {"shoulder"};
+  held.efforts = {0.2};
+  ASSERT_TRUE(w->setJointEfforts(held).ok());
+  TimedJointEffortInput t;
+  t.joint = "shoulder";
+  t.effort = 0.5;
+  t.duration = -1.0;  // until cleared
+  ASSERT_TRUE(w->applyJointEffort(t).ok());
+  w->step(5);
+  EXPECT_EQ(w->jointStates()[0].effort, 0.7);
+  w->clearWrenches();
+  w->step();
+  EXPECT_EQ(w->jointStates()[0].effort, 0.2);
+  // Larger than max_force: refused like a wrench would be.
+  t.effort = 2e6;
+  const auto r = w->applyJointEffort(t);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(),
+            "apply_joint_effort.effort: |effort| = 2000000 N m (or N) exceeds max_force = 1000000 "
+            "N m (or N)");
+}
+
 TEST(Articulated, StateEditsRespectTheTree) {
   auto w = makeWorld(kDoublePendulum);
   auto r = w->setBodyState("lower", Eigen::Isometry3d::Identity(), {0, 0, 0}, {0, 0, 0});
