@@ -50,13 +50,6 @@ void usage(const char* program, const std::string& engine) {
       slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str());
 }
 
-std::string csvSafe(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  std::replace(s.begin(), s.end(), '\t', ' ');
-  return s;
-}
-
 struct Timing {
   double cpu_ns, wall_ns;
 };
@@ -97,7 +90,7 @@ void ArticulatedCsv::row(const std::string& engine, const std::string& config,
                          const std::string& notes) {
   std::fprintf(static_cast<FILE*>(file_), "%s,%s,%s,%.6g,%.6g,%.6g,%.6e,%.6e,%.6e,%d,%s\n",
                engine.c_str(), config.c_str(), case_name.c_str(), h, cpu_ns, wall_ns, err_q, err_qd,
-               drift, blew ? 1 : 0, csvSafe(notes).c_str());
+               drift, blew ? 1 : 0, sweep::csvSafe(notes).c_str());
   std::fflush(static_cast<FILE*>(file_));
 }
 

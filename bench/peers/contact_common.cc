@@ -48,13 +48,6 @@ void usage(const char* program, const std::string& engine) {
       slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str());
 }
 
-std::string csvSafe(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  std::replace(s.begin(), s.end(), '\t', ' ');
-  return s;
-}
-
 }  // namespace
 
 ContactCsv::ContactCsv(const std::string& path) : file_(std::fopen(path.c_str(), "w")) {
@@ -71,7 +64,7 @@ ContactCsv::~ContactCsv() { std::fclose(static_cast<FILE*>(file_)); }
 void ContactCsv::row(const std::string& engine, const std::string& config, const std::string& case_name, double h,
                      double ns_per_step, double error, const std::string& metric, const std::string& notes) {
   std::fprintf(static_cast<FILE*>(file_), "%s,%s,%s,%.6g,%.6g,%.6e,%s,%s\n", engine.c_str(), config.c_str(),
-               case_name.c_str(), h, ns_per_step, error, metric.c_str(), csvSafe(notes).c_str());
+               case_name.c_str(), h, ns_per_step, error, metric.c_str(), sweep::csvSafe(notes).c_str());
   std::fflush(static_cast<FILE*>(file_));
 }
 

@@ -1,4 +1,5 @@
-// What the two peer sweep drivers (peer_common.cc: free bodies; contact_common.cc: contacts)
+// What the peer sweep drivers (peer_common.cc: free bodies; contact_common.cc: contacts;
+// articulated_common.cc: trees)
 // share: list options, filters, the thread CPU clock, and running one measurement in a forked
 // child so that an engine that aborts on a diverged state loses only that run.
 #pragma once
@@ -18,6 +19,14 @@
 
 namespace bench {
 namespace sweep {
+
+// A free-text CSV field: commas, newlines and tabs replaced so the row keeps its columns.
+inline std::string csvSafe(std::string s) {
+  std::replace(s.begin(), s.end(), ',', ';');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::replace(s.begin(), s.end(), '\t', ' ');
+  return s;
+}
 
 // "a,b,c" → {a, b, c} (empty items dropped).
 inline std::vector<std::string> splitList(const std::string& s) {
