@@ -14,6 +14,14 @@ using tree_math::Vector6d;
 Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& state,
                                 const TreeKinematics& kin, const Eigen::VectorXd& tau,
                                 const BodyMoments& f_ext) {
+  Eigen::VectorXd nu_dot;
+  forwardDynamics(tree, state, kin, tau, f_ext, nu_dot);
+  return nu_dot;
+}
+
+void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
+                     const Eigen::VectorXd& tau, const BodyMoments& f_ext,
+                     Eigen::VectorXd& nu_dot) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
   // Scratch (no allocation once grown). X[b]: motion from b's parent's frame to b's.
@@ -53,7 +61,7 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
     pA[p] += X[b].transpose() * pa;
   }
   // Pass 3: accelerations outward.
-  Eigen::VectorXd nu_dot(tree.velocityCount());
+  nu_dot.resize(tree.velocityCount());
   if (tree.floating()) {
     a[0] = -IA[0].ldlt().solve(pA[0]);
     nu_dot.head<6>() = a[0];
@@ -66,7 +74,6 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
     a[b] = ap + s * qdd;
     nu_dot[tree.velocityIndex(k)] = qdd;
   }
-  return nu_dot;
 }
 
 }  // namespace dynamics

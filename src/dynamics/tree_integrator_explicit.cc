@@ -33,39 +33,35 @@ class Explicit final : public TreeIntegrator {
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
-    if (!rk4_) {
-      const Eigen::VectorXd a = acceleration(tree, loads, state);
-      const Coeffs dM = motorRate(state.M_W0, state.omega_0);
-      TreeState next = state;
-      next.q += h * state.v;
-      next.M_W0 = axpy(state.M_W0, h, dM);
-      setVelocityVector(tree, velocityVector(tree, state) + h * a, next);
-      state = next;
-    } else {
-      // Stages Y_i = Y + c_i h K_{i−1}; the motor is a linear combination of coefficients.
-      const TreeState y0 = state;
-      const Eigen::VectorXd nu0 = velocityVector(tree, y0);
-      Eigen::VectorXd ka[4];
-      Coeffs km[4];
-      Eigen::VectorXd kq[4];
-      TreeState stage = y0;
-      const double c[4] = {0.0, 0.5, 0.5, 1.0};
-      for (int i = 0; i < 4; ++i) {
-        if (i > 0) {
-          stage.q = y0.q + (c[i] * h) * kq[i - 1];
-          stage.M_W0 = axpy(y0.M_W0, c[i] * h, km[i - 1]);
-          setVelocityVector(tree, nu0 + (c[i] * h) * ka[i - 1], stage);
-        }
-        kq[i] = stage.v;
-        km[i] = motorRate(stage.M_W0, stage.omega_0);
-        ka[i] = acceleration(tree, loads, stage);
+    // Stages Y_i = Y + c_i h K_{i−1} (Euler: the first alone); the motor is a linear
+    // combination of coefficients. Members hold every vector, so a step does not allocate.
+    const int stages = rk4_ ? 4 : 1;
+    y0_ = state;
+    setVelocity(tree, y0_, nu0_);
+    stage_ = y0_;
+    const double c[4] = {0.0, 0.5, 0.5, 1.0};
+    for (int i = 0; i < stages; ++i) {
+      if (i > 0) {
+        stage_.q = y0_.q + (c[i] * h) * kq_[i - 1];
+        stage_.M_W0 = axpy(y0_.M_W0, c[i] * h, km_[i - 1]);
+        nu_ = nu0_ + (c[i] * h) * ka_[i - 1];
+        setVelocityVector(tree, nu_, stage_);
       }
-      state.q = y0.q + (h / 6) * (kq[0] + 2 * kq[1] + 2 * kq[2] + kq[3]);
-      Coeffs dM;
-      for (int j = 0; j < 8; ++j) dM[j] = (km[0][j] + 2 * km[1][j] + 2 * km[2][j] + km[3][j]) / 6;
-      state.M_W0 = axpy(y0.M_W0, h, dM);
-      setVelocityVector(tree, nu0 + (h / 6) * (ka[0] + 2 * ka[1] + 2 * ka[2] + ka[3]), state);
+      kq_[i] = stage_.v;
+      km_[i] = motorRate(stage_.M_W0, stage_.omega_0);
+      acceleration(tree, loads, stage_, ka_[i]);
     }
+    const double w[4] = {rk4_ ? 1.0 / 6 : 1.0, 2.0 / 6, 2.0 / 6, 1.0 / 6};
+    Coeffs dM{};
+    state.q = y0_.q;
+    nu_ = nu0_;
+    for (int i = 0; i < stages; ++i) {
+      state.q += (w[i] * h) * kq_[i];
+      nu_ += (w[i] * h) * ka_[i];
+      for (int j = 0; j < 8; ++j) dM[j] += w[i] * km_[i][j];
+    }
+    state.M_W0 = axpy(y0_.M_W0, h, dM);
+    setVelocityVector(tree, nu_, state);
     if (tree.floating()) state.M_W0 = state.M_W0.normalized();
     for (int k = 0; k < tree.jointCount(); ++k) {  // limits by projection
       const TreeJoint& j = tree.joints()[k];
@@ -86,20 +82,30 @@ class Explicit final : public TreeIntegrator {
     return cga::Motor::fromCoefficients(c);
   }
 
-  Eigen::VectorXd acceleration(const ArticulatedBody& tree, const TreeLoads& loads,
-                               const TreeState& s) {
+  static void setVelocity(const ArticulatedBody& tree, const TreeState& s, Eigen::VectorXd& nu) {
+    nu.resize(tree.velocityCount());
+    if (tree.floating()) nu.head<6>() = tree_math::vec(s.omega_0);
+    nu.tail(tree.jointCount()) = s.v;
+  }
+
+  void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
+                    Eigen::VectorXd& out) {
     treeKinematics(tree, s, kin_);
     externalMoments(tree, kin_, loads, f_ext_);
-    Eigen::VectorXd tau = loads.effort;
+    Eigen::VectorXd& tau = tau_;
+    tau = loads.effort;
     for (int k = 0; k < tree.jointCount(); ++k) {
       const TreeJoint& j = tree.joints()[k];
       tau[k] -= j.damping * s.v[k];
       if (s.v[k] != 0.0) tau[k] -= (s.v[k] > 0 ? j.friction : -j.friction);
     }
-    return forwardDynamics(tree, s, kin_, tau, f_ext_);
+    forwardDynamics(tree, s, kin_, tau, f_ext_, out);
   }
 
   bool rk4_;
+  TreeState y0_, stage_;
+  Eigen::VectorXd nu0_, nu_, tau_, ka_[4], kq_[4];
+  Coeffs km_[4];
   TreeKinematics kin_;
   BodyMoments f_ext_;
 };

@@ -80,7 +80,14 @@ class Midpoint final : public TreeIntegrator {
   // method keeps its properties; only the cost grows.
   void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
                      TreeState& state, int depth) {
-    const Saved saved = save(state);
+    // One saved slot per depth, kept across steps: saving copies into vectors of the same
+    // size, so a step does not allocate once the slots exist.
+    if (saved_.empty()) {  // every slot sized at the first step
+      saved_.resize(kMaxHalvings + 1);
+      for (Saved& slot : saved_) save(state, slot);
+    }
+    Saved& saved = saved_[depth];
+    save(state, saved);
     if (substep(tree, loads, h, state) || depth >= kMaxHalvings) return;
     restore(saved, state);
     ++halvings_;
@@ -96,9 +103,19 @@ class Midpoint final : public TreeIntegrator {
     Eigen::VectorXd p, guess, prev_bar, prev_bar2;
     cga::Moment Pi;
   };
-  Saved save(const TreeState& s) const {
-    return {s,     last_, cached_, last_h_,   factored_h_, T_,
-            runs_, p_,    guess_,  prev_bar_, prev_bar2_,  Pi_};
+  void save(const TreeState& s, Saved& v) const {
+    v.state = s;
+    v.last = last_;
+    v.cached = cached_;
+    v.last_h = last_h_;
+    v.factored_h = factored_h_;
+    v.T = T_;
+    v.runs = runs_;
+    v.p = p_;
+    v.guess = guess_;
+    v.prev_bar = prev_bar_;
+    v.prev_bar2 = prev_bar2_;
+    v.Pi = Pi_;
   }
   void restore(const Saved& v, TreeState& s) {
     s = v.state;
@@ -134,7 +151,13 @@ class Midpoint final : public TreeIntegrator {
     // Start from the extrapolated midpoint velocity when the last step had the same h, and take
     // the iteration matrix at the midpoint that guess predicts: the simplified Newton method
     // then contracts by O(h) per iteration instead of by the change of M over half a step.
-    nu_bar_ = (fresh && h == last_h_) ? guess_ : velocityVector(tree, state);
+    if (fresh && h == last_h_) {
+      nu_bar_ = guess_;  // (not a conditional expression: that would copy into a temporary)
+    } else {
+      nu_bar_.resize(nv);
+      if (tree.floating()) nu_bar_.head<6>() = tree_math::vec(state.omega_0);
+      nu_bar_.tail(n) = state.v;
+    }
     if (fresh && h == last_h_ && n > 0) {
       mid_ = state;
       mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
@@ -169,7 +192,9 @@ class Midpoint final : public TreeIntegrator {
       }
       // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
       // rows then add the impulses anew.
-      nu_new_ = nu_bar_ + llt_damped_.solve(r_);
+      nu_new_ = r_;
+      llt_damped_.solveInPlace(nu_new_);
+      nu_new_ += nu_bar_;
       rows_.solve(tree, llt_damped_, state.q, h, nu_new_);
       rows_.impulses(y_);
       const double change = nv == 0 ? 0.0 : (nu_new_ - nu_bar_).cwiseAbs().maxCoeff();
@@ -209,7 +234,8 @@ class Midpoint final : public TreeIntegrator {
     rhs_.resize(nv);
     rhs_.tail(n) = p_;
     if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
-    nu_end_ = llt_.solve(rhs_);
+    nu_end_ = rhs_;
+    llt_.solveInPlace(nu_end_);
     // A converged iteration can still have found a spurious root of the midpoint equations when
     // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
     // than the loads' work. Such a step is refused and halved. A true step changes T by
@@ -223,11 +249,11 @@ class Midpoint final : public TreeIntegrator {
     // The next ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
     // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
     // same h (error O(h³)), else from ν(t + h) and ν̄.
-    if (fresh && h == last_h_ && runs_ >= 2) {
+    if (!(fresh && h == last_h_)) runs_ = 0;  // this step starts a run of equal steps
+    if (runs_ >= 2) {
       guess_ = 3.0 * nu_bar_ - 3.0 * prev_bar_ + prev_bar2_;
     } else {
       guess_ = 2.0 * nu_end_ - nu_bar_;
-      runs_ = 0;
     }
     prev_bar2_.swap(prev_bar_);
     prev_bar_ = nu_bar_;
@@ -250,6 +276,7 @@ class Midpoint final : public TreeIntegrator {
   double last_h_ = 0.0;
   int iterations_ = 0;
   int halvings_ = 0;
+  std::vector<Saved> saved_;
   double T_ = 0.0;  // kinetic energy of the state the integrator produced
   double factored_h_ = 0.0;
   int runs_ = 0;  // consecutive steps of the same h, for the extrapolation

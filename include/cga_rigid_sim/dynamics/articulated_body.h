@@ -130,6 +130,9 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
 Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& state,
                                 const TreeKinematics& kin, const Eigen::VectorXd& tau,
                                 const BodyMoments& f_ext);
+/// The same into `nu_dot` (no allocation once it has its size).
+void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
+                     const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& nu_dot);
 
 /// CRBA: the mass matrix M(q) (symmetric positive definite), kinetic energy ½ νᵀ M ν.
 void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M);
