@@ -82,13 +82,17 @@ class Midpoint final : public TreeIntegrator {
                      TreeState& state, int depth) {
     // One saved slot per depth, kept across steps: saving copies into vectors of the same
     // size, so a step does not allocate once the slots exist.
-    if (saved_.empty()) {  // every slot sized at the first step
-      saved_.resize(kMaxHalvings + 1);
-      for (Saved& slot : saved_) save(state, slot);
-    }
+    if (static_cast<int>(saved_.size()) <= depth) saved_.resize(depth + 1);
     Saved& saved = saved_[depth];
     save(state, saved);
-    if (substep(tree, loads, h, state) || depth >= kMaxHalvings) return;
+    if (substep(tree, loads, h, state) || depth >= kMaxHalvings) {
+      if (!slots_sized_) {  // every slot sized once the first step has sized the members
+        saved_.resize(kMaxHalvings + 1);
+        for (Saved& slot : saved_) save(state, slot);
+        slots_sized_ = true;
+      }
+      return;
+    }
     restore(saved, state);
     ++halvings_;
     robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
@@ -141,6 +145,8 @@ class Midpoint final : public TreeIntegrator {
       treeKinematics(tree, state, kin_);
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
+      prev_bar_.resize(nv);  // sized now, so the steps after this one do not allocate
+      prev_bar2_.resize(nv);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
@@ -241,11 +247,15 @@ class Midpoint final : public TreeIntegrator {
     // than the loads' work. Such a step is refused and halved. A true step changes T by
     // h·power up to its O((hω)²) error: 5 % of the kinetic energy plus half the work bound
     // that generously (the work term covers a start from rest, where T itself is O(h²)).
-    T_ = 0.5 * nu_end_.dot(M_ * nu_end_);
+    Mnu_.noalias() = M_ * nu_end_;  // (into a member: a product temporary would allocate)
+    T_ = 0.5 * nu_end_.dot(Mnu_);
     const double growth = T_ - T_start - h * power;
     if (growth > 0.05 * (T_ + T_start) + 0.5 * std::abs(h * power) + 1e-12) return false;
     // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md).
-    if (rows_.stopHeld(tree, llt_, nu_end_)) p_ = (M_ * nu_end_).tail(n);
+    if (rows_.stopHeld(tree, llt_, nu_end_)) {
+      Mnu_.noalias() = M_ * nu_end_;
+      p_ = Mnu_.tail(n);
+    }
     // The next ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
     // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
     // same h (error O(h³)), else from ν(t + h) and ν̄.
@@ -277,11 +287,12 @@ class Midpoint final : public TreeIntegrator {
   int iterations_ = 0;
   int halvings_ = 0;
   std::vector<Saved> saved_;
+  bool slots_sized_ = false;
   double T_ = 0.0;  // kinetic energy of the state the integrator produced
   double factored_h_ = 0.0;
   int runs_ = 0;  // consecutive steps of the same h, for the extrapolation
-  Eigen::VectorXd p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_,
-      rhs_;
+  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_,
+      nu_end_, rhs_;
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;

@@ -150,13 +150,12 @@ TEST(WorldAllocation, ParallelStepDoesNotAllocate) {
 // Truth: the same contract for articulated trees (stage_trees.cc): a fixed-base arm with its
 // limits and a floating satellite step with held and timed efforts and wrenches on links, and the
 // double pendulum — nothing allocates (operator new or malloc, which Eigen uses) once the first
-// step has sized the integrators' scratch. `auto`/`cga2` are not in the list: this test found
-// that their steps still allocate (≈ 7 times per 100 steps, not yet traced; cga4, the same
-// midpoint composed, does not) — doc/articulated.md#not-yet.
+// step has sized the integrators' scratch (the midpoint's extrapolation history and its saved
+// slots for halving included).
 TEST(WorldAllocation, TreeStepDoesNotAllocate) {
   if (!CGA_RIGID_SIM_COUNT_ALLOCATIONS) GTEST_SKIP() << "operator new belongs to the sanitizer";
   for (const char* name : {"double_pendulum", "arm7", "satellite"}) {
-    for (const char* integrator : {"cga4", "rk4", "euler"}) {
+    for (const char* integrator : {"auto", "cga4", "rk4", "euler"}) {
       scene::SceneOptions options;
       auto scene = scene::loadUrdfFile(
           std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/" + name + ".urdf", options);
