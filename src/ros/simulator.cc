@@ -48,6 +48,34 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       pacer_(world_->config().dt, params.real_time_factor),
       has_joints_(!world_->scene().joints.empty()),
       paused_(params.paused) {
+  // The configuration is said before anything is advertised: a client that sees a service up
+  // has seen these lines too.
+  const std::string clock = !params_.publish_clock ? "off"
+                            : params_.clock_rate > 0.0
+                                ? "at " + std::to_string(params_.clock_rate) + " Hz"
+                                : "every step";
+  ROS_INFO(
+      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states, "
+      "contacts%s at %g Hz; /clock %s%s",
+      world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
+      params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
+      has_joints_ ? " and /joint_states" : "", params_.publish_rate, clock.c_str(),
+      paused_ ? "; paused (call ~unpause, or ~step)" : "");
+
+  const sim::WorldConfig& config = world_->config();
+  const std::string plane =
+      config.ground_plane
+          ? "ground plane at z = " + formatNumber(config.ground_plane->height) + " m (mu " +
+                formatNumber(config.ground_plane->surface.mu.value_or(config.contact_mu)) +
+                ", restitution " +
+                formatNumber(
+                    config.ground_plane->surface.restitution.value_or(config.contact_restitution)) +
+                ")"
+          : "no ground plane";
+  ROS_INFO("simulator: %s; surfaces without their own: mu %s, restitution %s", plane.c_str(),
+           formatNumber(config.contact_mu).c_str(),
+           formatNumber(config.contact_restitution).c_str());
+
   // tf and /clock keep their global names (remappable as usual); the rest is private.
   tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", kOutputQueueSize);
   tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
@@ -93,31 +121,6 @@ int Simulator::run() {
   publishStaticFrames();
   publishClock();
   publishOutputs();
-  const std::string clock = !params_.publish_clock ? "off"
-                            : params_.clock_rate > 0.0
-                                ? "at " + std::to_string(params_.clock_rate) + " Hz"
-                                : "every step";
-  ROS_INFO(
-      "simulator: dt %g s; %d thread%s; real_time_factor %g%s; tf, momentum, body states, "
-      "contacts%s at %g Hz; /clock %s%s",
-      world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
-      params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
-      has_joints_ ? " and /joint_states" : "", params_.publish_rate, clock.c_str(),
-      paused_ ? "; paused (call ~unpause, or ~step)" : "");
-
-  const sim::WorldConfig& config = world_->config();
-  const std::string plane =
-      config.ground_plane
-          ? "ground plane at z = " + formatNumber(config.ground_plane->height) + " m (mu " +
-                formatNumber(config.ground_plane->surface.mu.value_or(config.contact_mu)) +
-                ", restitution " +
-                formatNumber(
-                    config.ground_plane->surface.restitution.value_or(config.contact_restitution)) +
-                ")"
-          : "no ground plane";
-  ROS_INFO("simulator: %s; surfaces without their own: mu %s, restitution %s", plane.c_str(),
-           formatNumber(config.contact_mu).c_str(),
-           formatNumber(config.contact_restitution).c_str());
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
