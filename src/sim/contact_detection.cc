@@ -38,6 +38,9 @@ class CollisionCache {
   bool built = false;
   std::uint64_t topology = 0;
   std::vector<Shape> shapes;
+  /// Pairs of bodies (smaller index first) joined by a joint: a link never collides with its
+  /// parent, whose shapes it usually overlaps at the joint. Sorted.
+  std::vector<std::pair<int, int>> joined;
   // Scratch, reused every step.
   std::vector<Eigen::Isometry3d> pose_W;  ///< per shape, M_WS at the step's start
   std::vector<Interval> sweep;
@@ -125,12 +128,15 @@ void build(const Model& model, CollisionCache& cache) {
   cache.shapes.clear();
   const auto& bodies = model.scene.bodies;
   for (int j = 0; j < static_cast<int>(bodies.size()); ++j) {
-    // Bodies of articulated trees do not collide yet (doc/articulated.md#not-yet).
-    const int i = model.moving_of_body[j];
-    if (i >= 0 && model.tree_of_moving[i] >= 0) continue;
     for (int k = 0; k < static_cast<int>(bodies[j].shapes.size()); ++k)
       cache.shapes.push_back(makeShape(bodies[j].shapes[k], j, k));
   }
+  cache.joined.clear();
+  for (const scene::JointModel& jm : model.scene.joints)
+    if (jm.parent_body >= 0)
+      cache.joined.emplace_back(std::min(jm.parent_body, jm.child_body),
+                                std::max(jm.parent_body, jm.child_body));
+  std::sort(cache.joined.begin(), cache.joined.end());
   cache.pose_W.resize(cache.shapes.size());
   cache.sweep.reserve(cache.shapes.size());
   cache.topology = model.topology_version;
@@ -303,6 +309,10 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
       if (A.body == B.body) continue;
       const bool b_moving = model.moving_of_body[B.body] >= 0;
       if (!a_moving && !b_moving) continue;
+      if (!cache.joined.empty() &&
+          std::binary_search(cache.joined.begin(), cache.joined.end(),
+                             std::make_pair(std::min(A.body, B.body), std::max(A.body, B.body))))
+        continue;
       const Eigen::Vector3d d = cache.pose_W[s2].translation() - ca;
       const double r = A.bound + B.bound;
       if (std::abs(d.y()) > r || std::abs(d.z()) > r || d.squaredNorm() > r * r) continue;

@@ -60,12 +60,13 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
     S.land_slot_b.assign(S.land_found.size(), -1);
     SolverSettings st = settings;
     st.h = rest;
-    prepareRows(S.land_found, S.land_bodies, S.land_slot_a, S.land_slot_b, S.land_rows);
+    prepareRows(S.land_found, S.land_bodies, S.land_trees, S.land_slot_a, S.land_slot_b,
+                S.land_rows);
     for (ContactRow& r : S.land_rows) {
       r.lambda_n = 0.0;
       r.lambda_t.setZero();
     }
-    const SolveStats stats = solveVelocities(st, S.land_bodies, S.land_rows);
+    const SolveStats stats = solveVelocities(st, S.land_bodies, S.land_trees, S.land_rows);
     dissipated = stats.kinetic_before - stats.kinetic_after;
     cga::Moment T;
     for (std::size_t k = 0; k < S.land_found.size(); ++k) {

@@ -7,6 +7,7 @@
 
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/moment.h"
+#include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "contact_detection.h"
@@ -17,13 +18,18 @@ namespace sim {
 
 struct ContactScratch {
   std::shared_ptr<CollisionCache> cache = makeCollisionCache();
-  std::vector<Contact> found;                  ///< this step's detection
-  std::vector<int> slot_of_moving;             ///< per moving index: its solver slot, or −1
-  std::vector<int> moving_of_slot;             ///< per slot: the moving index
-  std::vector<cga::Bivelocity> kicked_B;       ///< per slot: Ω_B after the loads' kick
-  std::vector<SolverBody> bodies;              ///< per slot
-  std::vector<int> slot_a, slot_b;             ///< per contact
-  std::vector<ContactRow> rows;                ///< per contact
+  std::vector<Contact> found;             ///< this step's detection
+  std::vector<int> slot_of_moving;        ///< per moving index: its solver slot, or −1
+  std::vector<int> moving_of_slot;        ///< per slot: the moving index
+  std::vector<cga::Bivelocity> kicked_B;  ///< per slot: Ω_B after the loads' kick
+  std::vector<SolverBody> bodies;         ///< per slot
+  std::vector<SolverTree> trees;          ///< per tree in a contact
+  std::vector<int> solver_tree_of_tree;   ///< per Model tree: its index in `trees`, or −1
+  std::vector<int> tree_of_solver_tree;   ///< per solver tree: the Model's tree index
+  std::vector<char> tree_used;            ///< per solver tree: it has a contact in the solve
+  std::vector<dynamics::TreeKinematics> tree_kicked;  ///< per solver tree: after the kick
+  std::vector<int> slot_a, slot_b;                    ///< per contact
+  std::vector<ContactRow> rows;                       ///< per contact
   std::vector<std::size_t> previous;           ///< last step's contacts, sorted by their pair
   std::vector<cga::Moment> impulse_B;          ///< per slot: the sum of its contact impulses, B
   std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN
@@ -32,6 +38,7 @@ struct ContactScratch {
   // One landing's solve.
   std::vector<Contact> land_found;
   std::vector<SolverBody> land_bodies;
+  std::vector<SolverTree> land_trees;  ///< always empty: trees do not land
   std::vector<int> land_slot_a, land_slot_b;
   std::vector<ContactRow> land_rows;
 };

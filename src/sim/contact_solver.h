@@ -16,7 +16,11 @@
 //
 // The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
 // impulses are applied to the states as CGA impulses afterwards (stage_contacts.cc), so the
-// velocity jump is (I∧n)⁻¹ T_imp as for user impulses.
+// velocity jump is (I∧n)⁻¹ T_imp as for user impulses. A link of an articulated tree has no
+// velocity of its own: the side of a contact on it reads and changes its tree's generalized
+// velocity ν through the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ
+// (Δν = W P), so contacts on several links of one tree are coupled through M(q)
+// (doc/contacts.md#trees).
 #pragma once
 
 #include <Eigen/Dense>
@@ -27,8 +31,12 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-/// A body as the solver sees it (world axes). Static bodies and the plane have no slot.
+/// A body as the solver sees it (world axes). Static bodies and the plane have no slot. A link
+/// of a tree has a slot too (for its position and its kicked velocity, which the stage reads),
+/// with `tree` set and no mass: the solver moves its tree's ν instead.
 struct SolverBody {
+  int tree = -1;       ///< the solver tree it belongs to, or −1 (a free body)
+  int tree_body = -1;  ///< its body index in that tree
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  ///< centre of mass, m
   Eigen::Vector3d v = Eigen::Vector3d::Zero();  ///< centre-of-mass velocity, m/s
   Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< angular velocity, rad/s
@@ -50,10 +58,30 @@ struct SolverBody {
   Eigen::Vector3d w_sweep = Eigen::Vector3d::Zero();
 };
 
-/// One contact in the solver: its bodies' slots (−1: immovable), lever arms, basis, the
-/// Delassus block K in the basis (n, t1, t2), its target and its accumulated impulses.
+/// An articulated tree as the solver sees it: its generalized velocity and mass matrix at the
+/// step's start, and per velocity coordinate the world twist (ω, v_o) that a unit rate gives
+/// (v_o: the velocity of the point at the world origin), from which contact Jacobians follow.
+struct SolverTree {
+  Eigen::VectorXd nu;                              ///< ν after the loads' kick and the impulses
+  Eigen::VectorXd nu_start, nu_sweep;              ///< before the impulses; before a sweep
+  Eigen::VectorXd pnu, pnu_sweep;                  ///< the position correction's pseudo-velocity
+  Eigen::MatrixXd M;                               ///< M(q)
+  Eigen::LLT<Eigen::MatrixXd> llt;                 ///< its factor
+  Eigen::Matrix<double, 6, Eigen::Dynamic> twist;  ///< per coordinate: (ω; v_o), world
+  std::vector<int> parent;                         ///< per tree body: its parent (−1 for body 0)
+  bool floating = false;                           ///< the base's 6 coordinates come first
+};
+
+/// One contact in the solver: its bodies' slots (−1: immovable or a tree side), lever arms,
+/// basis, the Delassus block K in the basis (n, t1, t2), its target and its accumulated
+/// impulses. A side on a tree link has ta/tb set, its Jacobian j (world point velocity = j ν)
+/// and response w = M⁻¹ jᵀ; a contact between two links of one tree keeps the difference of
+/// their Jacobians on side a alone.
 struct ContactRow {
   int a = -1, b = -1;
+  int ta = -1, tb = -1;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> ja, jb;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> wa, wb;
   Eigen::Vector3d ra, rb, n, t1, t2;
   double k_nn = 0.0;
   /// K n: how the relative velocity at the point changes per unit normal impulse (world axes).
@@ -107,18 +135,19 @@ struct SolveStats {
 };
 
 /// Fills the rows' geometry (arms, basis, K, targets) from the contacts and the bodies.
+/// Tree sides take their Jacobians from `trees` (the slot's SolverBody names its tree).
 void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverBody>& bodies,
-                 const std::vector<int>& slot_a, const std::vector<int>& slot_b,
-                 std::vector<ContactRow>& rows);
+                 const std::vector<SolverTree>& trees, const std::vector<int>& slot_a,
+                 const std::vector<int>& slot_b, std::vector<ContactRow>& rows);
 /// Solves the velocity impulses (rows' lambda_n, lambda_t hold the warm start on entry) and
-/// leaves the bodies' v, w at their values after the impulses.
+/// leaves the bodies' v, w and the trees' ν at their values after the impulses.
 SolveStats solveVelocities(const SolverSettings& settings, std::vector<SolverBody>& bodies,
-                           std::vector<ContactRow>& rows);
-/// Solves the position correction's pseudo-velocities pv, pw (normal only, no friction).
+                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows);
+/// Solves the position correction's pseudo-velocities pv, pw and pν (normal only, no friction).
 void solvePositions(const SolverSettings& settings, std::vector<SolverBody>& bodies,
-                    std::vector<ContactRow>& rows);
-/// Σ ½ m v² + ½ w·I w over the bodies.
-double kineticEnergy(const std::vector<SolverBody>& bodies);
+                    std::vector<SolverTree>& trees, std::vector<ContactRow>& rows);
+/// Σ ½ m v² + ½ w·I w over the bodies plus Σ ½ νᵀ M ν over the trees.
+double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

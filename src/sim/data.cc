@@ -27,6 +27,9 @@ Result<TreeData> makeTreeData(const Model& model, int t) {
   d.loads.effort = Eigen::VectorXd::Zero(n);
   d.held_effort = Eigen::VectorXd::Zero(n);
   d.clamped_steps.assign(n, 0);
+  d.drift_loads.applied.assign(tm.body.bodyCount(), nullptr);
+  d.drift_loads.effort = Eigen::VectorXd::Zero(n);
+  d.contact_shift = Eigen::VectorXd::Zero(tm.body.velocityCount());
   return d;
 }
 

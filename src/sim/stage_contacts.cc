@@ -11,6 +11,7 @@
 #include "cga_rigid_sim/sim/stages.h"
 #include "contact_landing.h"
 #include "contact_scratch.h"
+#include "contact_trees.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -43,6 +44,11 @@ int slotOf(const Model& model, ContactScratch& S, int j) {
   if (S.slot_of_moving[i] < 0) {
     S.slot_of_moving[i] = static_cast<int>(S.moving_of_slot.size());
     S.moving_of_slot.push_back(i);
+    const int t = model.tree_of_moving[i];
+    if (t >= 0 && S.solver_tree_of_tree[t] < 0) {
+      S.solver_tree_of_tree[t] = static_cast<int>(S.tree_of_solver_tree.size());
+      S.tree_of_solver_tree.push_back(t);
+    }
   }
   return S.slot_of_moving[i];
 }
@@ -85,21 +91,44 @@ void solveContacts(const Model& model, Data& data) {
   }
   const double h = model.config.dt, lambda = model.lambda;
 
-  // Slots for every moving body in a contact, and their kicked velocities.
+  // Slots for every moving body in a contact (and its tree), and their kicked velocities.
   S.slot_of_moving.assign(data.bodies.size(), -1);
   S.moving_of_slot.clear();
+  S.solver_tree_of_tree.assign(model.trees.size(), -1);
+  S.tree_of_solver_tree.clear();
   S.slot_a.resize(S.found.size());
   S.slot_b.resize(S.found.size());
   for (std::size_t k = 0; k < S.found.size(); ++k) {
     S.slot_a[k] = slotOf(model, S, S.found[k].body_a);
     S.slot_b[k] = slotOf(model, S, S.found[k].body_b);
   }
+  // Trees: kicked as a whole; their links' slots read the kicked velocities.
+  S.trees.resize(S.tree_of_solver_tree.size());
+  S.tree_kicked.resize(S.tree_of_solver_tree.size());
+  for (std::size_t u = 0; u < S.trees.size(); ++u)
+    kickTree(model, data, S.tree_of_solver_tree[u], S.trees[u], S.tree_kicked[u]);
   S.kicked_B.resize(S.moving_of_slot.size());
   S.bodies.resize(S.moving_of_slot.size());
   for (std::size_t s = 0; s < S.moving_of_slot.size(); ++s) {
     const int i = S.moving_of_slot[s];
-    S.kicked_B[s] = kicked(model, data.bodies[i], i);
-    S.bodies[s] = solverBody(model, data.bodies[i].state, S.kicked_B[s], i);
+    const int t = model.tree_of_moving[i];
+    if (t < 0) {
+      S.kicked_B[s] = kicked(model, data.bodies[i], i);
+      S.bodies[s] = solverBody(model, data.bodies[i].state, S.kicked_B[s], i);
+      continue;
+    }
+    // A link: its velocity moves with its tree's ν, so it has no mass of its own here.
+    const int u = S.solver_tree_of_tree[t], b = model.tree_body_of_moving[i];
+    S.kicked_B[s] = S.tree_kicked[u].omega[b];
+    SolverBody& sb = S.bodies[s];
+    sb = SolverBody();
+    sb.tree = u;
+    sb.tree_body = b;
+    const dynamics::BodyState& st = data.bodies[i].state;
+    const Eigen::Matrix3d R = st.M_WB.rotation().toRotationMatrix();
+    sb.x = st.M_WB.translation(lambda);
+    sb.v = R * S.kicked_B[s].linear(lambda);
+    sb.w = R * S.kicked_B[s].angular();
   }
 
   // A speculative contact whose gap stays open over the step is dropped: a body near the
@@ -148,6 +177,8 @@ void solveContacts(const Model& model, Data& data) {
   // Landings: a body whose contacts are all gaps to the ground plane that close within the
   // step faster than the resting speed is stepped to the instant it lands and bounces there.
   S.landing.assign(S.bodies.size(), 1);
+  for (std::size_t s = 0; s < S.bodies.size(); ++s)
+    if (S.bodies[s].tree >= 0) S.landing[s] = 0;  // a tree's links land as the tree moves
   for (std::size_t k = 0; k < kept; ++k) {
     const Contact& c = S.found[k];
     if (c.body_b != kGroundPlane || c.depth > 0) S.landing[S.slot_a[k]] = 0;
@@ -188,7 +219,13 @@ void solveContacts(const Model& model, Data& data) {
     data.contacts.assign(S.landed.begin(), S.landed.end());
     return;
   }
-  prepareRows(S.found, S.bodies, S.slot_a, S.slot_b, S.rows);
+  // A tree whose contacts all stay open keeps its whole step: its kick is dropped and its tree
+  // stage steps it under its loads.
+  S.tree_used.assign(S.trees.size(), 0);
+  for (std::size_t k = 0; k < kept; ++k)
+    for (const int slot : {S.slot_a[k], S.slot_b[k]})
+      if (slot >= 0 && S.bodies[slot].tree >= 0) S.tree_used[S.bodies[slot].tree] = 1;
+  prepareRows(S.found, S.bodies, S.trees, S.slot_a, S.slot_b, S.rows);
 
   // Warm start from last step's impulses of the same contacts.
   S.previous.resize(data.contacts.size());
@@ -207,8 +244,12 @@ void solveContacts(const Model& model, Data& data) {
     }
   }
 
-  data.contact_sweeps = solveVelocities(settings, S.bodies, S.rows).iterations;
-  solvePositions(settings, S.bodies, S.rows);
+  data.contact_sweeps = solveVelocities(settings, S.bodies, S.trees, S.rows).iterations;
+  solvePositions(settings, S.bodies, S.trees, S.rows);
+  for (std::size_t u = 0; u < S.trees.size(); ++u) {
+    const int t = S.tree_of_solver_tree[u];
+    if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
+  }
 
   // The impulses act on the states as CGA impulses: ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,
   // doc/conventions.md (E17)), after the loads' kick.
@@ -251,7 +292,8 @@ void solveContacts(const Model& model, Data& data) {
   double dissipated = 0.0;
   const Eigen::Vector3d& g = model.scene.gravity_W;
   for (std::size_t s = 0; s < S.bodies.size(); ++s) {
-    if (S.landing[s]) continue;  // stepped through already
+    if (S.landing[s]) continue;           // stepped through already
+    if (S.bodies[s].tree >= 0) continue;  // its tree books its step (stage_trees.cc)
     const int i = S.moving_of_slot[s];
     MovingBodyData& b = data.bodies[i];
     const dynamics::Inertia& I = model.moving[i].inertia;

@@ -5,11 +5,61 @@
 #include <cmath>
 
 #include "cga_rigid_sim/sim/stages.h"
+#include "contact_trees.h"
 
 namespace cga_rigid_sim {
 namespace sim {
+namespace {
 
-void integrateTrees(const Model& model, Data& data) {
+// After a contact step's drift: the position correction moves the tree by h pν, paid for from
+// its kinetic energy when it lifts the tree (as for free bodies, doc/contacts.md#energy), then
+// the step's energy is booked: what the tree had plus the inputs' work (trapezoidal) minus what
+// it has now.
+void endContactStep(const Model& model, Data& data, int t) {
+  const TreeModel& tm = model.trees[t];
+  TreeData& td = data.trees[t];
+  const dynamics::ArticulatedBody& tree = tm.body;
+  const double h = model.config.dt;
+  static thread_local dynamics::TreeKinematics kin;
+  static thread_local dynamics::TreeState moved;
+  if (!td.contact_shift.isZero(0.0)) {
+    dynamics::treeKinematics(tree, td.state, kin);
+    const double T = dynamics::kineticEnergy(tree, kin);
+    const double U0 = treeEnergy(model, t, kin) - T;
+    moved = td.state;
+    if (tree.floating())
+      moved.M_W0 = moved.M_W0 * cga::exp(cga::Bivelocity(td.contact_shift.head<3>(),
+                                                         td.contact_shift.segment<3>(3)) *
+                                         (-0.5 * h));
+    moved.q += h * td.contact_shift.tail(tree.jointCount());
+    dynamics::treeKinematics(tree, moved, kin);
+    const double dU = treeEnergy(model, t, kin) - T - U0;
+    double f = 1.0;
+    if (dU > 0) {
+      f = std::min(1.0, 0.5 * T / dU);
+      if (T > 0) {
+        const double scale = std::sqrt(std::max(0.0, 1.0 - f * dU / T));
+        td.state.omega_0 = td.state.omega_0 * scale;
+        td.state.v *= scale;
+      }
+    }
+    if (tree.floating())
+      td.state.M_W0 = td.state.M_W0 * cga::exp(cga::Bivelocity(td.contact_shift.head<3>(),
+                                                               td.contact_shift.segment<3>(3)) *
+                                               (-0.5 * f * h));
+    td.state.q += f * h * td.contact_shift.tail(tree.jointCount());
+  }
+  dynamics::treeKinematics(tree, td.state, kin);
+  const double work =
+      0.5 * h * (td.contact_power_start + treeInputPower(model, data, t, kin, td.state.v));
+  data.dissipated_energy += td.contact_energy_start + work - treeEnergy(model, t, kin);
+  td.contact_kicked = false;
+  td.integrator->reset();
+}
+
+}  // namespace
+
+void loadTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
@@ -29,7 +79,19 @@ void integrateTrees(const Model& model, Data& data) {
       td.loads.applied[b] =
           i >= 0 && data.bodies[i].loads.hasApplied() ? &data.bodies[i].loads : nullptr;
     }
-    td.integrator->step(tm.body, td.loads, model.config.dt, td.state);
+  }
+}
+
+void integrateTrees(const Model& model, Data& data) {
+  for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
+    const TreeModel& tm = model.trees[t];
+    TreeData& td = data.trees[t];
+    if (td.contact_kicked) {  // loads and impulses are in ν already: the step drifts
+      td.integrator->step(tm.body, td.drift_loads, model.config.dt, td.state);
+      endContactStep(model, data, t);
+    } else {
+      td.integrator->step(tm.body, td.loads, model.config.dt, td.state);
+    }
     writeTreeBodies(model, data, t);
   }
 }

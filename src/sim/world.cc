@@ -47,6 +47,7 @@ void World::step() {
   Data& d = impl_->data;
   applyDueInputs(m, d);
   updateLoads(m, d);
+  loadTrees(m, d);
   solveContacts(m, d);
   integrateTrees(m, d);
   integrateBodies(m, d, impl_->pool.get());

@@ -72,6 +72,14 @@ struct TreeData {
   Eigen::VectorXd held_effort;      ///< per joint: the last commanded effort (~joint_efforts)
   std::vector<ActiveEffort> timed;  ///< started timed efforts (~apply_joint_effort)
   std::vector<std::uint64_t> clamped_steps;  ///< per joint: steps its effort was clamped
+  /// The contacts stage kicked the tree and applied its contact impulses this step: the tree
+  /// stage then only drifts it, with `drift_loads` (none), and books the step's energy
+  /// (doc/contacts.md#trees).
+  bool contact_kicked = false;
+  dynamics::TreeLoads drift_loads;    ///< no gravity, no applied loads, zero efforts
+  Eigen::VectorXd contact_shift;      ///< the position correction's pseudo-velocity pν
+  double contact_energy_start = 0.0;  ///< J, kinetic + potential before the kick
+  double contact_power_start = 0.0;   ///< W, of the inputs before the kick
 };
 
 struct Data {

@@ -7,13 +7,16 @@
 //   updateLoads      each body's loads become gravity plus its active wrenches, summed in the
 //                    order they started — rebuilt only for bodies whose set changed
 //                    (stage_loads.cc);
+//   loadTrees        each articulated tree's loads for the step: its links' applied loads, its
+//                    joints' held and timed efforts clamped to their limits (stage_trees.cc);
 //   solveContacts    contacts found at the step's start (broad, then narrow phase); every body
-//                    in one is kicked by its loads and the contact impulses, solved together,
-//                    act on it as user impulses do (stage_contacts.cc, doc/contacts.md);
-//   integrateTrees   every articulated tree over the step with its tree integrator (gravity,
-//                    its links' loads, its joints' held and timed efforts clamped to their
-//                    limits); its bodies' states are then written from the tree's
-//                    (stage_trees.cc, doc/articulated.md);
+//                    in one, and every tree with a link in one, is kicked by its loads and the
+//                    contact impulses, solved together, act on it as user impulses do
+//                    (stage_contacts.cc, contact_trees.cc, doc/contacts.md);
+//   integrateTrees   every articulated tree over the step with its tree integrator (gravity and
+//                    its loads; a tree the contacts stage kicked drifts without them); its
+//                    bodies' states are then written from the tree's (stage_trees.cc,
+//                    doc/articulated.md);
 //   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator (a body the
 //                    contacts stage kicked drifts torque-free and without gravity); a body with no
 //                    load and Ω_B = 0 is at rest under every integrator and is skipped; then the
@@ -49,6 +52,8 @@ void solveContacts(const Model& model, Data& data);
 /// fraction of the work.
 constexpr std::size_t kMinBodiesPerThread = 256;
 void expireInputs(const Model& model, Data& data);
+/// Sets every tree's loads for the step (efforts clamped and counted, links' applied loads).
+void loadTrees(const Model& model, Data& data);
 /// Advances every articulated tree and writes its bodies' states.
 void integrateTrees(const Model& model, Data& data);
 /// Timed joint efforts whose last step was the one just done end (called by expireInputs).

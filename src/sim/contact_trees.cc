@@ -1,0 +1,113 @@
+#include "contact_trees.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+// A bivector's coefficients (e23, e31, e12; e1n, e2n, e3n) as the world twist (ω; v_o) of a
+// world-frame bivector: v_o = λ u is the velocity of the point at the world origin.
+Eigen::Matrix<double, 6, 1> twistOf(const Eigen::Matrix<double, 6, 6>& X, const cga::Bivelocity& s,
+                                    double lambda) {
+  Eigen::Matrix<double, 6, 1> c;
+  c << s.rot, s.trans;
+  c = X * c;
+  c.tail<3>() *= lambda;
+  return c;
+}
+
+// Scratch of the stage (one step at a time per Data; the step is single-threaded here).
+struct Scratch {
+  dynamics::TreeKinematics kin, still;
+  dynamics::TreeState state;
+  dynamics::BodyMoments f;
+  Eigen::VectorXd nu_dot;
+};
+Scratch& scratch() {
+  static thread_local Scratch s;
+  return s;
+}
+
+}  // namespace
+
+double treeEnergy(const Model& model, int t, const dynamics::TreeKinematics& kin) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  const double lambda = model.lambda;
+  double E = dynamics::kineticEnergy(tree, kin);
+  for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+    E -= tree.inertiaOf(b).mass() * model.scene.gravity_W.dot(kin.M_W[b].translation(lambda));
+  return E;
+}
+
+double treeInputPower(const Model& model, const Data& data, int t,
+                      const dynamics::TreeKinematics& kin, const Eigen::VectorXd& rates) {
+  const TreeModel& tm = model.trees[t];
+  const TreeData& td = data.trees[t];
+  double P = td.loads.effort.dot(rates);
+  for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+    const dynamics::Loads* L = td.loads.applied[b];
+    if (!L) continue;
+    const cga::Moment T = L->appliedMoment_B(kin.M_W[b], model.lambda);
+    P += T.rot.dot(kin.omega[b].rot) + T.trans.dot(kin.omega[b].trans);
+  }
+  return P;
+}
+
+void kickTree(const Model& model, Data& data, int t, SolverTree& out,
+              dynamics::TreeKinematics& kicked) {
+  const TreeModel& tm = model.trees[t];
+  const dynamics::ArticulatedBody& tree = tm.body;
+  TreeData& td = data.trees[t];
+  const double h = model.config.dt, lambda = model.lambda;
+  Scratch& S = scratch();
+
+  dynamics::treeKinematics(tree, td.state, S.kin);
+  td.contact_energy_start = treeEnergy(model, t, S.kin);
+  td.contact_power_start = treeInputPower(model, data, t, S.kin, td.state.v);
+
+  // M⁻¹ (τ + Q) is what ABA gives at rest in the same pose: no velocity terms (they belong to
+  // the drift).
+  S.state = td.state;
+  S.state.omega_0 = cga::Bivelocity();
+  S.state.v.setZero();
+  S.still = S.kin;
+  for (auto& w : S.still.omega) w = cga::Bivelocity();
+  dynamics::externalMoments(tree, S.still, td.loads, S.f);
+  dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot);
+  out.nu = dynamics::velocityVector(tree, td.state) + h * S.nu_dot;
+
+  dynamics::massMatrix(tree, S.kin, out.M);
+  out.llt.compute(out.M);
+  const int n = tree.velocityCount();
+  out.twist.resize(6, n);
+  out.floating = tree.floating();
+  if (tree.floating()) {
+    const Eigen::Matrix<double, 6, 6> X = dynamics::adjointMatrix(S.kin.M_W[0], lambda);
+    for (int j = 0; j < 6; ++j) {
+      out.twist.col(j) = X.col(j);
+      out.twist(3 + 0, j) *= lambda;
+      out.twist(3 + 1, j) *= lambda;
+      out.twist(3 + 2, j) *= lambda;
+    }
+  }
+  for (int k = 0; k < tree.jointCount(); ++k)
+    out.twist.col(tree.velocityIndex(k)) =
+        twistOf(dynamics::adjointMatrix(S.kin.M_W[k + 1], lambda), tree.screwInChild(k), lambda);
+  out.parent.resize(tree.bodyCount());
+  out.parent[0] = -1;
+  for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
+
+  S.state = td.state;
+  dynamics::setVelocityVector(tree, out.nu, S.state);
+  dynamics::treeKinematics(tree, S.state, kicked);
+}
+
+void takeTreeImpulses(const SolverTree& solved, TreeData& td,
+                      const dynamics::ArticulatedBody& tree) {
+  dynamics::setVelocityVector(tree, solved.nu, td.state);
+  td.contact_shift = solved.pnu;
+  td.contact_kicked = true;
+  td.integrator->reset();
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
