@@ -108,7 +108,9 @@ for _ in $(seq 1 360); do
 done
 rostopic info /simulator/markers 2>/dev/null | grep -q '/rviz' ||
   { echo "rviz did not subscribe to /simulator/markers within 180 s" >&2; tail -20 "$WORK/launch.log" >&2; exit 1; }
-rosservice call /simulator/step "$STEPS" >/dev/null
+# The node may still be starting (rviz subscribes to a topic before it has a publisher).
+timeout 60 rosservice call --wait /simulator/step "$STEPS" >/dev/null ||
+  { echo "~step failed" >&2; tail -20 "$WORK/launch.log" >&2; exit 1; }
 # rviz draws at 30 Hz in software: give it time to take the last tf and markers.
 sleep 4
 import -window root "$WORK/screen.png"
