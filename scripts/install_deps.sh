@@ -24,7 +24,10 @@ export PATH="/usr/bin:$PATH"
 
 # Common to both platforms.
 packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-yaml
-          libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest)
+          libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest
+          # seeing a run (README "Seeing the simulation"): plots from a bag, rviz under a virtual
+          # X server with mesa's software GL, and a screenshot of it
+          python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick)
 
 candidate_of() {  # prints the apt candidate version of $1, or nothing
   apt-cache policy "$1" 2>/dev/null | awk '/Candidate:/ {print $2}' | grep -v '^(none)$' || true
@@ -42,6 +45,7 @@ if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] ||
     ros-noetic-rostopic ros-noetic-rosservice ros-noetic-roslaunch ros-noetic-rostest
     ros-noetic-rosunit ros-noetic-rosbash
     ros-noetic-sensor-msgs ros-noetic-robot-state-publisher
+    ros-noetic-visualization-msgs ros-noetic-rviz
     ros-noetic-fcl)  # FCL ≥ 0.6 (Ubuntu 20.04's libfcl-dev is 0.5, another API)
 else
   platform=debian
@@ -55,6 +59,7 @@ else
     python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros
     libsensor-msgs-dev python3-sensor-msgs ros-sensor-msgs
     ros-robot-state-publisher  # test/ros/robot_state_publisher.test
+    libvisualization-msgs-dev rviz
     libfcl-dev)  # FCL 0.7: collision detection for contacts
 fi
 

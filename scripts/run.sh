@@ -47,9 +47,11 @@ run.sh: the simulator runs (roslaunch cga_rigid_sim sim.launch $*). In another t
   rostopic echo /simulator/body_states                    # poses, twists, motor coefficients
   rosrun tf2_tools view_frames.py                         # the tf tree -> frames.pdf
   rosrun tf2_tools echo.py world racket_head              # a link; Noetic: tf2_ros tf2_echo
-  rosrun rviz rviz                                        # fixed frame 'world', add a TF display
+  rosrun rviz rviz -d \$(rospack find cga_rigid_sim)/rviz/cga_rigid_sim.rviz  # scene, momentum
   rosservice call /simulator/pause                        # also: unpause, step 100, reset
   roslaunch cga_rigid_sim record.launch bag:=run.bag      # record a bag
+  scripts/plot_bag.py run.bag run.png                     # its energy, |L|, |P| and drift
+With rviz from the start: bash scripts/run.sh gravity:="[0, 0, 0]" rviz:=true
 Other scenes: bash scripts/run.sh scene:=thin_rod (symmetric_top, dumbbell, projectile,
 t_handle, many_bodies); every sim.launch argument works. README: "The simulator node".
 Articulated robots: scene:=double_pendulum, scene:=arm7, scene:=satellite gravity:="[0, 0, 0]";

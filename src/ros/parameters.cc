@@ -181,7 +181,10 @@ const std::vector<std::string>& knownPrivateParams() {
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
       "max_impulse", "relax_inertia", "threads",
       // contacts
-      "ground_plane", "contact_mu", "contact_restitution"};
+      "ground_plane", "contact_mu", "contact_restitution",
+      // ~markers (README "Seeing the simulation")
+      "marker_length", "marker_angular_momentum_ref", "marker_angular_velocity_ref",
+      "marker_force_ref"};
   return kNames;
 }
 
@@ -295,6 +298,18 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   p.world.threads = threads > 0
                         ? static_cast<int>(threads)
                         : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  // ~markers scaling (include/cga_rigid_sim/ros/markers.h): ℓ > 0; references ≥ 0, 0 = chosen.
+  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_length", &p.markers.length));
+  if (!(p.markers.length > 0.0)) return Error{"~marker_length: must be > 0 m"};
+  for (auto [name, ref] :
+       {std::pair{"marker_angular_momentum_ref", &p.markers.angular_momentum_ref},
+        std::pair{"marker_angular_velocity_ref", &p.markers.angular_velocity_ref}}) {
+    CGA_RIGID_SIM_READ(readNumber(pnh, name, ref));
+    if (!(*ref >= 0.0))
+      return Error{std::string("~") + name + ": must be >= 0 (0 = chosen from the motion)"};
+  }
+  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_force_ref", &p.markers.force_ref));
+  if (!(p.markers.force_ref > 0.0)) return Error{"~marker_force_ref: must be > 0 N"};
 #undef CGA_RIGID_SIM_READ
 
   // Unknown private parameters are most likely typos: say so (not fatal).

@@ -85,6 +85,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   body_states_pub_ = pnh_.advertise<cga_rigid_sim::BodyStateArray>("body_states", kOutputQueueSize);
   contacts_pub_ = pnh_.advertise<cga_rigid_sim::ContactArray>("contacts", kOutputQueueSize);
   rejected_pub_ = pnh_.advertise<std_msgs::UInt64>("rejected_inputs", 1, /*latch=*/true);
+  markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", kOutputQueueSize);
   // /joint_states keeps its global name too (robot_state_publisher and rviz listen there), and
   // exists only for a scene with joints: a node of free bodies is no source of joint states.
   if (has_joints_)
@@ -213,6 +214,8 @@ void Simulator::publishOutputs() {
     contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
   if (has_joints_ && joint_states_pub_.getNumSubscribers() > 0)
     joint_states_pub_.publish(toJointStateMsg(world_->jointStates(), stamp));
+  if (markers_pub_.getNumSubscribers() > 0)
+    markers_pub_.publish(markersOf(*world_, params_.markers, &marker_refs_, stamp));
 }
 
 void Simulator::publishClock() {

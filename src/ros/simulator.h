@@ -33,6 +33,7 @@
 #include <set>
 #include <string>
 
+#include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "pacing.h"
@@ -132,6 +133,8 @@ class Simulator {
   ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
   ::ros::Publisher momentum_pub_, body_states_pub_, contacts_pub_, rejected_pub_;
   ::ros::Publisher joint_states_pub_;
+  ::ros::Publisher markers_pub_;  ///< ~markers for rviz (markers.h), built only when subscribed
+  MarkerReferences marker_refs_;  ///< the arrows' scales in use (grow with the motion seen)
   std::vector<::ros::Subscriber> subscribers_;
   std::vector<::ros::ServiceServer> services_;
 };

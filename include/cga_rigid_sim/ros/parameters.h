@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/scene/param_value.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
@@ -37,6 +38,7 @@ struct NodeParams {
   bool publish_clock = true;      ///< ~publish_clock
   double clock_rate = 0.0;        ///< ~clock_rate: Hz (sim); 0 = every step
   bool paused = false;            ///< ~paused: start paused
+  MarkerScale markers;  ///< ~marker_length, ~marker_{angular_momentum,angular_velocity,force}_ref
 };
 
 /// The private parameters the node knows (without "~"), for the unknown-parameter warning.
