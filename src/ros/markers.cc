@@ -64,7 +64,8 @@ MarkerReferences updateMarkerReferences(const MarkerInputs& in, const MarkerScal
                                         const MarkerReferences& previous) {
   double largest_L = 0.0, largest_w = 0.0;
   for (const auto& m : in.momentum)
-    if (m.body != sim::kTotalName) largest_L = std::max(largest_L, m.angular.norm());
+    if (m.kind == sim::MomentumReport::Kind::kBody)
+      largest_L = std::max(largest_L, m.angular.norm());
   for (const auto& b : in.bodies) largest_w = std::max(largest_w, b.angular_velocity.norm());
   MarkerReferences refs;
   refs.angular_momentum =

@@ -8,12 +8,33 @@
 namespace cga_rigid_sim {
 namespace sim {
 
+namespace {
+
+// Adds body r (of mass m, centre of mass x) to the sums of a group; `mass_x` is Σ m x.
+void addTo(MomentumReport& group, double& mass, Eigen::Vector3d& mass_x, const MomentumReport& r,
+           double m, const Eigen::Vector3d& x) {
+  group.linear += r.linear;
+  group.angular_origin += r.angular_origin;
+  group.kinetic_energy += r.kinetic_energy;
+  group.potential_energy += r.potential_energy;
+  mass += m;
+  mass_x += m * x;
+}
+
+// About the group's centre of mass x_cm = Σ m x_c / Σ m: L_cm = L_origin − x_cm × P.
+void finish(MomentumReport& group, double mass, const Eigen::Vector3d& mass_x) {
+  if (mass > 0) group.angular = group.angular_origin - (mass_x / mass).cross(group.linear);
+}
+
+}  // namespace
+
 std::vector<MomentumReport> momentumReports(const Model& model, const Data& data) {
   const double lambda = model.lambda;
   const Eigen::Vector3d& g_W = model.scene.gravity_W;
   std::vector<MomentumReport> out;
-  out.reserve(data.bodies.size() + 1);
+  out.reserve(data.bodies.size() + model.trees.size() + 1);
   MomentumReport total;
+  total.kind = MomentumReport::Kind::kTotal;
   total.body = kTotalName;
   double mass = 0.0;
   Eigen::Vector3d mass_x = Eigen::Vector3d::Zero();  // Σ m x_c
@@ -27,16 +48,25 @@ std::vector<MomentumReport> momentumReports(const Model& model, const Data& data
     r.angular_origin = dynamics::angularMomentumOrigin_W(I, s, lambda);
     r.kinetic_energy = dynamics::kineticEnergy(I, s, lambda);
     r.potential_energy = dynamics::potentialEnergy(I, s, g_W, lambda);
-    total.linear += r.linear;
-    total.angular_origin += r.angular_origin;
-    total.kinetic_energy += r.kinetic_energy;
-    total.potential_energy += r.potential_energy;
-    mass += I.mass();
-    mass_x += I.mass() * dynamics::comPosition_W(s, lambda);
+    addTo(total, mass, mass_x, r, I.mass(), dynamics::comPosition_W(s, lambda));
     out.push_back(std::move(r));
   }
-  // About the system's centre of mass x_cm = Σ m x_c / Σ m: L_cm = L_origin − x_cm × P.
-  if (mass > 0) total.angular = total.angular_origin - (mass_x / mass).cross(total.linear);
+  // Each tree: the sums over its bodies (their entries are out[i] by moving index).
+  for (const TreeModel& tm : model.trees) {
+    MomentumReport tree;
+    tree.kind = MomentumReport::Kind::kTree;
+    tree.body = kTreePrefix + model.bodyOf(tm.movingOf(tm.body.floating() ? 0 : 1)).name;
+    double tree_mass = 0.0;
+    Eigen::Vector3d tree_mass_x = Eigen::Vector3d::Zero();
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+      const int i = tm.movingOf(b);
+      addTo(tree, tree_mass, tree_mass_x, out[i], model.moving[i].inertia.mass(),
+            dynamics::comPosition_W(data.bodies[i].state, lambda));
+    }
+    finish(tree, tree_mass, tree_mass_x);
+    out.push_back(std::move(tree));
+  }
+  finish(total, mass, mass_x);
   total.dissipated_energy = data.dissipated_energy;
   out.push_back(std::move(total));
   return out;

@@ -179,8 +179,14 @@ class JointsTest(unittest.TestCase):
     def test_initial_potential_energy_follows_the_joint_angles(self):
         t0 = self.fresh_start()
         q = self.joints_at(t0).position
-        total = body(self.sim.momentum_at(t0), 'total')
+        momentum = self.sim.momentum_at(t0)
+        total = body(momentum, 'total')
         self.assertAlmostEqual(total.potential_energy, potential_energy(*q), delta=1e-12)
+        # The tree's own entry, named after its first link, sits before the total and carries
+        # the same energy here (the pendulum is the scene's only tree).
+        tree = body(momentum, 'tree:upper')
+        self.assertEqual([b.body for b in momentum.bodies][-2:], ['tree:upper', 'total'])
+        self.assertAlmostEqual(tree.potential_energy, potential_energy(*q), delta=1e-12)
 
     def test_released_pendulum_swings_through_zero_and_keeps_its_energy(self):
         # One step after the release the energy is still the release's (it is conserved).

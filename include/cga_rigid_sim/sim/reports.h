@@ -15,11 +15,18 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-/// Momentum and energy of one body (or of the whole scene, named "total"), world axes.
-/// For "total": linear, angular_origin and the energies are the sums over the moving bodies;
-/// `angular` is the angular momentum about the system's centre of mass,
-/// L_origin − x_cm × P (the bodies' spins plus their orbital momentum about x_cm).
+/// Entries of the momentum report for articulated trees are named this prefix plus the name of
+/// the tree's first moving body (its floating root, or the child of its first joint).
+constexpr const char* kTreePrefix = "tree:";
+
+/// Momentum and energy of one body, of one articulated tree (named kTreePrefix + its first
+/// body) or of the whole scene (named "total"), world axes. For a tree and for "total":
+/// linear, angular_origin and the energies are the sums over their moving bodies; `angular` is
+/// the angular momentum about their centre of mass, L_origin − x_cm × P (the bodies' spins plus
+/// their orbital momentum about x_cm).
 struct MomentumReport {
+  enum class Kind { kBody, kTree, kTotal };
+  Kind kind = Kind::kBody;
   std::string body;
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();          ///< kg m/s
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();         ///< about the CoM, kg m²/s
@@ -72,7 +79,8 @@ struct FramePose {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
-/// Per moving body (scene order), then the scene total named kTotalName.
+/// Per moving body (scene order), then per articulated tree (model order), then the scene total
+/// named kTotalName.
 std::vector<MomentumReport> momentumReports(const Model& model, const Data& data);
 /// Body j (static bodies: their fixed pose, zero velocities).
 BodyStateReport bodyStateReport(const Model& model, const Data& data, int j);
