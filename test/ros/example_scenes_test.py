@@ -48,7 +48,7 @@ class ExampleScenesTest(unittest.TestCase):
         scenes = [s for s, _, _ in example_scenes()]
         for expected in ['tennis_racket', 'symmetric_top', 'thin_rod', 'dumbbell', 'projectile',
                          't_handle', 'many_bodies', 'tabletop', 'double_pendulum', 'arm7',
-                         'satellite']:
+                         'satellite', 'rover']:
             self.assertIn(expected, scenes)
         for scene in scenes:
             self.assertTrue(os.path.exists(os.path.join(PACKAGE, 'launch', scene + '.launch')),
