@@ -25,8 +25,8 @@ Eigen::Vector3d pointVelocity(const std::vector<SolverBody>& bodies, int s,
 template <Eigen::VectorXd SolverTree::*Nu>
 Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c) {
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
-  if (c.ta >= 0) u += c.ja * (trees[c.ta].*Nu);
-  if (c.tb >= 0) u -= c.jb * (trees[c.tb].*Nu);
+  if (c.ta >= 0) u.noalias() += c.ja * (trees[c.ta].*Nu);
+  if (c.tb >= 0) u.noalias() -= c.jb * (trees[c.tb].*Nu);
   return u;
 }
 
@@ -51,8 +51,8 @@ void applyTo(std::vector<SolverBody>& bodies, std::vector<SolverTree>& trees, co
     body.*V += body.inv_mass * Ps;
     body.*W += body.inv_inertia * (side ? c.rb : c.ra).cross(Ps);
   }
-  if (c.ta >= 0) trees[c.ta].*Nu += c.wa * P;
-  if (c.tb >= 0) trees[c.tb].*Nu -= c.wb * P;
+  if (c.ta >= 0) (trees[c.ta].*Nu).noalias() += c.wa * P;
+  if (c.tb >= 0) (trees[c.tb].*Nu).noalias() -= c.wb * P;
 }
 
 void applyImpulse(std::vector<SolverBody>& bodies, std::vector<SolverTree>& trees,
@@ -149,12 +149,14 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
       K += bodies[s].inv_mass * Eigen::Matrix3d::Identity() - R * bodies[s].inv_inertia * R;
     }
     if (c.ta >= 0) {
-      c.wa = trees[c.ta].llt.solve(c.ja.transpose());
-      K += c.ja * c.wa;
+      c.wa = c.ja.transpose();
+      trees[c.ta].llt.solveInPlace(c.wa);
+      K.noalias() += c.ja * c.wa;
     }
     if (c.tb >= 0) {
-      c.wb = trees[c.tb].llt.solve(c.jb.transpose());
-      K += c.jb * c.wb;
+      c.wb = c.jb.transpose();
+      trees[c.tb].llt.solveInPlace(c.wb);
+      K.noalias() += c.jb * c.wb;
     }
     Eigen::Matrix3d B;
     B << c.n, c.t1, c.t2;
@@ -191,7 +193,7 @@ double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<So
   double T = 0.0;
   for (const SolverBody& b : bodies)
     T += 0.5 * (b.mass * b.v.squaredNorm() + b.w.dot(b.inertia * b.w));
-  for (const SolverTree& t : trees) T += 0.5 * t.nu.dot(t.M * t.nu);
+  for (const SolverTree& t : trees) T += 0.5 * t.nu.dot(t.M.selfadjointView<Eigen::Lower>() * t.nu);
   return T;
 }
 

@@ -73,7 +73,13 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   for (auto& w : S.still.omega) w = cga::Bivelocity();
   dynamics::externalMoments(tree, S.still, td.loads, S.f);
   dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot);
-  out.nu = dynamics::velocityVector(tree, td.state) + h * S.nu_dot;
+  out.nu.resize(tree.velocityCount());
+  if (tree.floating()) {
+    out.nu.head<3>() = td.state.omega_0.rot;
+    out.nu.segment<3>(3) = td.state.omega_0.trans;
+  }
+  out.nu.tail(tree.jointCount()) = td.state.v;
+  out.nu += h * S.nu_dot;
 
   dynamics::massMatrix(tree, S.kin, out.M);
   out.llt.compute(out.M);

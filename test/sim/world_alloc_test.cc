@@ -195,5 +195,44 @@ TEST(WorldAllocation, TreeStepDoesNotAllocate) {
   }
 }
 
+// A tree in contact: the rover stands on the ground plane and drives (eight wheel contacts every
+// step, each tree side with its Jacobian and response). Once the first steps have sized the
+// solver's rows and the tree's scratch, a step allocates nothing while the contacts stay as many.
+TEST(WorldAllocation, TreeContactStepDoesNotAllocate) {
+  if (!CGA_RIGID_SIM_COUNT_ALLOCATIONS) GTEST_SKIP() << "operator new belongs to the sanitizer";
+  for (const char* integrator : {"auto", "rk4"}) {
+    scene::SceneOptions options;
+    options.gravity_W = {0, 0, -9.81};
+    scene::ParamValue::Map chassis, initial;
+    chassis["position"] = scene::ParamValue(std::vector<scene::ParamValue>{
+        scene::ParamValue(0.0), scene::ParamValue(0.0), scene::ParamValue(0.16)});
+    initial["chassis"] = scene::ParamValue(chassis);
+    options.initial_state = scene::ParamValue(initial);
+    auto scene =
+        scene::loadUrdfFile(std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/rover.urdf", options);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    sim::WorldConfig config;
+    config.integrator = integrator;
+    config.ground_plane = sim::GroundPlane();
+    auto world = sim::World::create(std::move(scene.value()), config);
+    ASSERT_TRUE(world.ok()) << world.error();
+    sim::World& w = *world.value();
+    sim::JointEffortInput held;
+    for (const auto& j : w.jointStates()) {
+      held.names.push_back(j.name);
+      held.efforts.push_back(0.5);
+    }
+    ASSERT_TRUE(w.setJointEfforts(held).ok());
+    w.step(10);
+    ASSERT_EQ(w.contacts().size(), 8u);
+    g_allocations = 0;
+    g_counting = true;
+    w.step(100);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0) << integrator;
+    EXPECT_EQ(w.contacts().size(), 8u);
+  }
+}
+
 }  // namespace
 }  // namespace cga_rigid_sim
