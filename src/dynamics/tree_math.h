@@ -69,31 +69,68 @@ inline cga::Moment toParent(const TreeKinematics& kin, int b, const cga::Moment&
   return {kin.R_P[b] * T.rot + kin.t_P[b].cross(F), F};
 }
 
-/// [t]× A for a 3×3 A: the cross product of t with every column.
-inline Eigen::Matrix3d crossColumns(const Eigen::Vector3d& t, const Eigen::Matrix3d& A) {
-  Eigen::Matrix3d out;
-  for (int c = 0; c < 3; ++c) out.col(c) = t.cross(A.col(c));
-  return out;
-}
-
 /// I_p += Ad(M_bp)ᵀ I Ad(M_bp) for a symmetric 6×6 inertia I of body b (articulated or
 /// composite), in 3×3 blocks: with I = [[A, B], [Bᵀ, C]] and A', B', C' the blocks turned by R
 /// (R A Rᵀ, …), Ad(M_bp)ᵀ = [[1, T], [0, 1]] diag(R, R), T = [t]×, and
 ///   Ad(M_bp)ᵀ I Ad(M_bp) = [[A' + T B'ᵀ − Y T, Y], [Yᵀ, C']],   Y = B' + T C'.
+/// Written out on scalars (Eigen's 3×3 products do not unroll at -O2); only the upper triangles
+/// of the symmetric blocks are computed, and I_p is updated symmetrically.
 inline void addToParent(const TreeKinematics& kin, int b, const Matrix6d& I, Matrix6d& I_p) {
   const Eigen::Matrix3d& R = kin.R_P[b];
-  const Eigen::Vector3d& t = kin.t_P[b];
-  const Eigen::Matrix3d RA = R * I.topLeftCorner<3, 3>(), RB = R * I.topRightCorner<3, 3>(),
-                        RC = R * I.bottomRightCorner<3, 3>();
-  const Eigen::Matrix3d A = RA * R.transpose(), B = RB * R.transpose(), C = RC * R.transpose();
-  const Eigen::Matrix3d Y = B + crossColumns(t, C);
-  const Eigen::Matrix3d TBt = crossColumns(t, B.transpose());
-  // Y T = −(T Yᵀ)ᵀ.
-  const Eigen::Matrix3d YT = -crossColumns(t, Y.transpose()).transpose();
-  I_p.topLeftCorner<3, 3>() += A + TBt - YT;
-  I_p.topRightCorner<3, 3>() += Y;
-  I_p.bottomLeftCorner<3, 3>() += Y.transpose();
-  I_p.bottomRightCorner<3, 3>() += C;
+  const double tx = kin.t_P[b].x(), ty = kin.t_P[b].y(), tz = kin.t_P[b].z();
+  double RA[3][3], RB[3][3], RC[3][3];  // R times the blocks
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      RA[i][j] = R(i, 0) * I(0, j) + R(i, 1) * I(1, j) + R(i, 2) * I(2, j);
+      RB[i][j] = R(i, 0) * I(0, j + 3) + R(i, 1) * I(1, j + 3) + R(i, 2) * I(2, j + 3);
+      RC[i][j] = R(i, 0) * I(3, j + 3) + R(i, 1) * I(4, j + 3) + R(i, 2) * I(5, j + 3);
+    }
+  double A[3][3], B[3][3], C[3][3];  // turned blocks: X Rᵀ, (X Rᵀ)(i, j) = X_i · R_j
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      B[i][j] = RB[i][0] * R(j, 0) + RB[i][1] * R(j, 1) + RB[i][2] * R(j, 2);
+      if (j < i) continue;
+      A[i][j] = RA[i][0] * R(j, 0) + RA[i][1] * R(j, 1) + RA[i][2] * R(j, 2);
+      C[i][j] = RC[i][0] * R(j, 0) + RC[i][1] * R(j, 1) + RC[i][2] * R(j, 2);
+    }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < i; ++j) {
+      A[i][j] = A[j][i];
+      C[i][j] = C[j][i];
+    }
+  // Y = B' + T C': column j of T C' is t × C'_j.
+  double Y[3][3];
+  for (int j = 0; j < 3; ++j) {
+    Y[0][j] = B[0][j] + ty * C[2][j] - tz * C[1][j];
+    Y[1][j] = B[1][j] + tz * C[0][j] - tx * C[2][j];
+    Y[2][j] = B[2][j] + tx * C[1][j] - ty * C[0][j];
+  }
+  // T B'ᵀ: column j is t × (row j of B'); Y T: row i is (row i of Y) × t.
+  const auto cross = [&](const double* v, double* out) {
+    out[0] = ty * v[2] - tz * v[1];
+    out[1] = tz * v[0] - tx * v[2];
+    out[2] = tx * v[1] - ty * v[0];
+  };
+  double TBt[3][3], YT[3][3];  // TBt[j] is column j of T B'ᵀ, YT[i] row i of Y T
+  for (int j = 0; j < 3; ++j) cross(B[j], TBt[j]);
+  for (int i = 0; i < 3; ++i) {
+    cross(Y[i], YT[i]);
+    for (double& x : YT[i]) x = -x;  // (row of Y) × t = −t × (row of Y)
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      const double top = A[i][j] + TBt[j][i] - YT[i][j];
+      I_p(i, j) += top;
+      I_p(i + 3, j + 3) += C[i][j];
+      if (j == i) continue;
+      I_p(j, i) += top;
+      I_p(j + 3, i + 3) += C[i][j];
+    }
+    for (int j = 0; j < 3; ++j) {
+      I_p(i, j + 3) += Y[i][j];
+      I_p(j + 3, i) += Y[i][j];
+    }
+  }
 }
 
 }  // namespace tree_math
