@@ -7,8 +7,10 @@
 // M_WL, its velocity the body bivelocity Ω_L = (w, v/λ) in its own frame (origin at its centre
 // of mass, principal axes, so its inertia map I(·)∧n is diagonal), a joint's screw axis is a
 // unit bivector S, forces and momenta are trivectors (τ, λf) (cga/moment.h). Frames change with
-// the motor sandwich M X M̃ (Motor::apply). The velocity-product terms are commutator products
-// (cga::commutator): the acceleration a child gets from its joint's rate is q̇ (s × Ω).
+// the motor sandwich M X M̃ (Motor::apply), which the recursions apply through the 3×3 blocks of
+// its adjoint matrix (TreeKinematics::R_P, t_P; doc/articulated.md (A1')). The velocity-product
+// terms are commutator products (cga::commutator): the acceleration a child gets from its
+// joint's rate is q̇ (s × Ω).
 //
 // Bodies are numbered b = 0…n: body 0 is the base — a free body (floating base, 6 velocity
 // coordinates Ω_0) or the world (fixed base: no coordinates, M_W0 = 1, Ω_0 = 0) — and body
