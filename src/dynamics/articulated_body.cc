@@ -1,6 +1,8 @@
 // ArticulatedBody: the tree's constants and its forward kinematics (doc/articulated.md).
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 
+#include <cmath>
+
 #include "tree_math.h"
 
 namespace cga_rigid_sim {
@@ -16,6 +18,7 @@ ArticulatedBody::ArticulatedBody(std::optional<Inertia> base_inertia, std::vecto
                                   : cga::Bivelocity(Eigen::Vector3d::Zero(), a / lambda_);
     S_J_.push_back(S);
     s_C_.push_back(j.M_JC.reverse().apply(S));
+    M_PC_.push_back(j.M_PJ * j.M_JC);
   }
 }
 
@@ -23,21 +26,48 @@ void TreeKinematics::resize(int bodies) {
   M_W.resize(bodies);
   M_P.resize(bodies);
   omega.resize(bodies);
+  R_P.resize(bodies);
+  t_P.resize(bodies);
 }
+
+namespace {
+
+// M_pb(q) = M_PJ exp(−½ q S) M_JC = M_PC exp(−½ q s), s = M̃_JC S M_JC the screw in the child's
+// frame (conjugating the exponent by M_JC). The exponential in closed form (cga::exp): a
+// revolute s = (u, m), |u| = 1, is a line (u·m = 0), so exp(−½ q s) = (cos ½q + sin ½q u,
+// −sin ½q m) as (rotor, dual) quaternions; a prismatic s = (0, m) gives (1, −½ q m).
+cga::Motor jointMotor(JointKind kind, const cga::Motor& M_PC, const cga::Bivelocity& s, double q) {
+  if (kind == JointKind::kRevolute) {
+    const double half = 0.5 * q, c = std::cos(half), sh = std::sin(half);
+    return M_PC *
+           cga::Motor::fromQuaternions(
+               Eigen::Quaterniond(c, sh * s.rot.x(), sh * s.rot.y(), sh * s.rot.z()),
+               Eigen::Quaterniond(0.0, -sh * s.trans.x(), -sh * s.trans.y(), -sh * s.trans.z()));
+  }
+  const Eigen::Vector3d b = (-0.5 * q) * s.trans;
+  return M_PC * cga::Motor::fromQuaternions(Eigen::Quaterniond(1, 0, 0, 0),
+                                            Eigen::Quaterniond(0.0, b.x(), b.y(), b.z()));
+}
+
+}  // namespace
 
 void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
   const int n = tree.jointCount();
+  const double lambda = tree.lambda();
   kin.resize(n + 1);
   kin.M_W[0] = tree.floating() ? state.M_W0 : cga::Motor();
   kin.omega[0] = tree.floating() ? state.omega_0 : cga::Bivelocity();
   for (int k = 0; k < n; ++k) {
     const TreeJoint& j = tree.joints()[k];
     const int b = k + 1, p = j.parent;
-    // The child's frame in the parent's: M_pb = M_PJ exp(−½ q S) M_JC.
-    kin.M_P[b] = j.M_PJ * cga::exp(tree.screwInJoint(k) * (-0.5 * state.q[k])) * j.M_JC;
-    kin.M_W[b] = kin.M_W[p] * kin.M_P[b];
+    // The child's frame in the parent's: M_pb = M_PJ exp(−½ q S) M_JC (A0).
+    const cga::Motor& M = kin.M_P[b] =
+        jointMotor(j.kind, tree.childAtZero(k), tree.screwInChild(k), state.q[k]);
+    kin.M_W[b] = kin.M_W[p] * M;
+    kin.R_P[b] = M.rotation().toRotationMatrix();
+    kin.t_P[b] = M.translation(lambda) / lambda;
     // Ω_b = M_bp Ω_p M̃_bp + q̇ s (doc/articulated.md (A2)).
-    kin.omega[b] = kin.M_P[b].reverse().apply(kin.omega[p]) + tree.screwInChild(k) * state.v[k];
+    kin.omega[b] = tree_math::toChild(kin, b, kin.omega[p]) + tree.screwInChild(k) * state.v[k];
   }
 }
 

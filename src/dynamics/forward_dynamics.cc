@@ -19,25 +19,44 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
   return nu_dot;
 }
 
+namespace {
+// Scratch of the recursion, one per thread: no allocation once grown.
+struct AbaScratch {
+  std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> IA;
+  std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> pA, c, U;
+  std::vector<cga::Bivelocity> a;
+  std::vector<double> D, u;
+};
+}  // namespace
+
 void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
                      const Eigen::VectorXd& tau, const BodyMoments& f_ext,
                      Eigen::VectorXd& nu_dot) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
-  // Scratch (no allocation once grown). X[b]: motion from b's parent's frame to b's.
-  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> IA, X;
-  static thread_local std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> pA, c, U, a;
-  static thread_local std::vector<double> D, u;
-  IA.assign(n + 1, Matrix6d::Zero());
-  pA.assign(n + 1, Vector6d::Zero());
-  a.assign(n + 1, Vector6d::Zero());
-  X.resize(n + 1);
+  static thread_local AbaScratch scratch;
+  auto& IA = scratch.IA;
+  auto& pA = scratch.pA;
+  auto& c = scratch.c;
+  auto& U = scratch.U;
+  auto& a = scratch.a;
+  auto& D = scratch.D;
+  auto& u = scratch.u;
+  IA.resize(n + 1);
+  pA.resize(n + 1);
   c.resize(n + 1);
   U.resize(n + 1);
+  a.resize(n + 1);
   D.resize(n + 1);
   u.resize(n + 1);
-  // Pass 1: rigid-body inertias, bias moments −(Ω × I(Ω)) − f_ext, velocity-product terms.
-  for (int b = tree.floating() ? 0 : 1; b <= n; ++b) {
+  // Pass 1: rigid-body inertias, bias moments −(Ω × I(Ω)) − f_ext, velocity-product terms
+  // q̇ (s × Ω_b) of (A3). Body 0 of a fixed base is the world: it takes what reaches it.
+  const int first = tree.floating() ? 0 : 1;
+  if (first == 1) {
+    IA[0].setZero();
+    pA[0].setZero();
+  }
+  for (int b = first; b <= n; ++b) {
     const Inertia& I = tree.inertiaOf(b);
     IA[b] = tree_math::inertiaMatrix(I, lambda);
     pA[b] = tree_math::vec(cga::Moment() - I.gyroscopic(kin.omega[b], lambda) - f_ext[b]);
@@ -45,32 +64,33 @@ void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const 
   for (int k = 0; k < n; ++k) {
     const int b = k + 1;
     c[b] = tree_math::vec(cga::commutator(tree.screwInChild(k), kin.omega[b]) * state.v[k]);
-    X[b] = adjointMatrix(kin.M_P[b].reverse(), lambda);
   }
   // Pass 2: articulated inertias inward.
   for (int k = n - 1; k >= 0; --k) {
     const int b = k + 1, p = tree.joints()[k].parent;
-    const Vector6d s = tree_math::vec(tree.screwInChild(k));
-    U[b] = IA[b] * s;
-    D[b] = s.dot(U[b]);
-    u[b] = tau[k] - s.dot(pA[b]);
+    const cga::Bivelocity& s = tree.screwInChild(k);
+    U[b] = IA[b].leftCols<3>() * s.rot + IA[b].rightCols<3>() * s.trans;
+    D[b] = tree_math::pairing(U[b], s);
+    u[b] = tau[k] - tree_math::pairing(pA[b], s);
     if (p == 0 && !tree.floating()) continue;  // the world takes what reaches it
-    const Matrix6d Ia = IA[b] - U[b] * U[b].transpose() / D[b];
+    const Matrix6d Ia = IA[b] - U[b] * (U[b].transpose() / D[b]);
     const Vector6d pa = pA[b] + Ia * c[b] + U[b] * (u[b] / D[b]);
-    IA[p] += X[b].transpose() * Ia * X[b];
-    pA[p] += X[b].transpose() * pa;
+    tree_math::addToParent(kin, b, Ia, IA[p]);
+    pA[p] += tree_math::vec(tree_math::toParent(kin, b, tree_math::moment(pa)));
   }
   // Pass 3: accelerations outward.
   nu_dot.resize(tree.velocityCount());
+  a[0] = cga::Bivelocity();
   if (tree.floating()) {
-    a[0] = -IA[0].ldlt().solve(pA[0]);
-    nu_dot.head<6>() = a[0];
+    const Vector6d a0 = -IA[0].ldlt().solve(pA[0]);
+    a[0] = tree_math::bivector(a0);
+    nu_dot.head<6>() = a0;
   }
   for (int k = 0; k < n; ++k) {
     const int b = k + 1, p = tree.joints()[k].parent;
-    const Vector6d s = tree_math::vec(tree.screwInChild(k));
-    const Vector6d ap = X[b] * a[p] + c[b];
-    const double qdd = (u[b] - U[b].dot(ap)) / D[b];
+    const cga::Bivelocity& s = tree.screwInChild(k);
+    const cga::Bivelocity ap = tree_math::toChild(kin, b, a[p]) + tree_math::bivector(c[b]);
+    const double qdd = (u[b] - tree_math::pairing(U[b], ap)) / D[b];
     a[b] = ap + s * qdd;
     nu_dot[tree.velocityIndex(k)] = qdd;
   }

@@ -24,7 +24,7 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
     const cga::Bivelocity& s = tree.screwInChild(k);
     const double qd = state.v[k], qdd = nu_dot[tree.velocityIndex(k)];
     // (A3): a_b = M_bp a_p M̃_bp + q̈ s + q̇ (s × Ω_b).
-    a[b] = kin.M_P[b].reverse().apply(a[p]) + s * qdd + cga::commutator(s, kin.omega[b]) * qd;
+    a[b] = tree_math::toChild(kin, b, a[p]) + s * qdd + cga::commutator(s, kin.omega[b]) * qd;
     const Inertia& I = tree.inertiaOf(b);
     f[b] = I.apply(a[b], lambda) - I.gyroscopic(kin.omega[b], lambda) - f_ext[b];
   }
@@ -32,7 +32,7 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
   for (int k = n - 1; k >= 0; --k) {
     const int b = k + 1, p = tree.joints()[k].parent;
     out[tree.velocityIndex(k)] = tree_math::pairing(f[b], tree.screwInChild(k));
-    if (p != 0 || tree.floating()) f[p] += kin.M_P[b].apply(f[b], lambda);
+    if (p != 0 || tree.floating()) f[p] += tree_math::toParent(kin, b, f[b]);
   }
   if (tree.floating()) out.head<6>() = tree_math::vec(f[0]);
   return out;

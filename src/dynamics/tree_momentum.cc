@@ -14,31 +14,32 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
   const double lambda = tree.lambda();
   M.setZero(tree.velocityCount(), tree.velocityCount());
   // Composite inertias inward, each in its own body's frame (scratch: no allocation once grown).
-  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> Ic, X;
-  Ic.assign(n + 1, Matrix6d::Zero());
-  X.resize(n + 1);
+  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> Ic_scratch;
+  auto& Ic = Ic_scratch;
+  Ic.resize(n + 1);
+  if (!tree.floating()) Ic[0].setZero();
   for (int b = tree.floating() ? 0 : 1; b <= n; ++b)
     Ic[b] = tree_math::inertiaMatrix(tree.inertiaOf(b), lambda);
-  for (int b = 1; b <= n; ++b) X[b] = adjointMatrix(kin.M_P[b].reverse(), lambda);
   for (int b = n; b >= 1; --b) {
     const int p = tree.parentOf(b);
-    if (p != 0 || tree.floating()) Ic[p] += X[b].transpose() * Ic[b] * X[b];
+    if (p != 0 || tree.floating()) tree_math::addToParent(kin, b, Ic[b], Ic[p]);
   }
   for (int k = 0; k < n; ++k) {
     int b = k + 1;
-    Vector6d F = Ic[b] * tree_math::vec(tree.screwInChild(k));
-    M(off + k, off + k) = tree_math::vec(tree.screwInChild(k)).dot(F);
+    const cga::Bivelocity& s = tree.screwInChild(k);
+    cga::Moment F = tree_math::moment(Ic[b].leftCols<3>() * s.rot + Ic[b].rightCols<3>() * s.trans);
+    M(off + k, off + k) = tree_math::pairing(F, s);
     while (tree.parentOf(b) != 0) {
-      F = X[b].transpose() * F;  // to the parent's frame
+      F = tree_math::toParent(kin, b, F);  // to the parent's frame
       b = tree.parentOf(b);
-      const double m = tree_math::vec(tree.screwInChild(b - 1)).dot(F);
+      const double m = tree_math::pairing(F, tree.screwInChild(b - 1));
       M(off + k, off + b - 1) = m;
       M(off + b - 1, off + k) = m;
     }
     if (tree.floating()) {
-      F = X[b].transpose() * F;
-      M.block<6, 1>(0, off + k) = F;
-      M.block<1, 6>(off + k, 0) = F.transpose();
+      F = tree_math::toParent(kin, b, F);
+      M.block<6, 1>(0, off + k) = tree_math::vec(F);
+      M.block<1, 6>(off + k, 0) = tree_math::vec(F).transpose();
     }
   }
   if (tree.floating()) M.topLeftCorner<6, 6>() = Ic[0];
@@ -73,8 +74,8 @@ void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
       (*gradient)[k] =
           tree_math::pairing(H[b], cga::commutator(s, kin.omega[b])) + tree_math::pairing(F[b], s);
     if (q != 0 || tree.floating()) {
-      H[q] += kin.M_P[b].apply(H[b], lambda);
-      F[q] += kin.M_P[b].apply(F[b], lambda);
+      H[q] += tree_math::toParent(kin, b, H[b]);
+      F[q] += tree_math::toParent(kin, b, F[b]);
     }
   }
   if (tree.floating()) p.head<6>() = tree_math::vec(H[0]);

@@ -7,8 +7,10 @@
 // M_WL, its velocity the body bivelocity Ω_L = (w, v/λ) in its own frame (origin at its centre
 // of mass, principal axes, so its inertia map I(·)∧n is diagonal), a joint's screw axis is a
 // unit bivector S, forces and momenta are trivectors (τ, λf) (cga/moment.h). Frames change with
-// the motor sandwich M X M̃ (Motor::apply). The velocity-product terms are commutator products
-// (cga::commutator): the acceleration a child gets from its joint's rate is q̇ (s × Ω).
+// the motor sandwich M X M̃ (Motor::apply), which the recursions apply through the 3×3 blocks of
+// its adjoint matrix (TreeKinematics::R_P, t_P; doc/articulated.md (A1')). The velocity-product
+// terms are commutator products (cga::commutator): the acceleration a child gets from its
+// joint's rate is q̇ (s × Ω).
 //
 // Bodies are numbered b = 0…n: body 0 is the base — a free body (floating base, 6 velocity
 // coordinates Ω_0) or the world (fixed base: no coordinates, M_W0 = 1, Ω_0 = 0) — and body
@@ -73,6 +75,8 @@ class ArticulatedBody {
   /// Joint k's screw in its child's frame, s = M_JC⁻¹ S M_JC (constant: the joint motion
   /// exp(−½ q S) commutes with S).
   const cga::Bivelocity& screwInChild(int k) const { return s_C_[k]; }
+  /// Joint k's child frame in its parent's at q = 0: M_PJ M_JC.
+  const cga::Motor& childAtZero(int k) const { return M_PC_[k]; }
   /// Inertia of body b (b ≥ 1, or 0 for a floating base).
   const Inertia& inertiaOf(int b) const { return b == 0 ? *base_ : joints_[b - 1].inertia; }
   /// Parent body of body b ≥ 1.
@@ -83,6 +87,7 @@ class ArticulatedBody {
   std::vector<TreeJoint> joints_;
   double lambda_ = 1.0;
   std::vector<cga::Bivelocity> S_J_, s_C_;
+  std::vector<cga::Motor> M_PC_;
 };
 
 /// The changing part of a tree: base pose and velocity (a fixed base keeps M_W0 = 1, Ω_0 = 0),
@@ -96,10 +101,14 @@ struct TreeState {
   }
 };
 
-/// Per body b: pose M_Wb, motor to the parent's frame M_pb (b ≥ 1), bivelocity Ω_b.
+/// Per body b: pose M_Wb, motor to the parent's frame M_pb (b ≥ 1), bivelocity Ω_b; and M_pb
+/// as the blocks of its adjoint matrix (doc/articulated.md (A1)) — the rotation matrix R_P and
+/// the translation over λ, t_P — with which the recursions change frames.
 struct TreeKinematics {
   std::vector<cga::Motor> M_W, M_P;
   std::vector<cga::Bivelocity> omega;
+  std::vector<Eigen::Matrix3d> R_P;
+  std::vector<Eigen::Vector3d> t_P;
   void resize(int bodies);
 };
 
