@@ -1,6 +1,7 @@
 // The active wrenches of a World: starting one, ending those whose time is up, dropping all,
 // and the bookkeeping that tells updateLoads which bodies' loads to rebuild. Internal to the
-// sim layer; none of these allocates (room is made when an input is queued).
+// sim layer; none of these allocates (room is made when an input is queued, up to the bounds
+// on active wrenches that mayStart enforces).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,12 @@ namespace sim {
 
 /// Flags moving body i for a rebuild of its applied loads.
 void markLoadsDirty(Data& data, int i);
+
+/// Whether wrench or timed effort `in`, due at step k, may start: its body (tree) is below
+/// ~max_active_wrenches_per_body and the world below ~max_active_wrenches (wrenches and timed
+/// efforts together). If not it is refused: counted and described in data.start_refusals.
+/// Never allocates.
+bool mayStart(const Model& model, Data& data, const QueuedInput& in, std::uint64_t k);
 
 /// Starts queued wrench `in` at step k. A world-frame wrench's point becomes the material
 /// point that is there now, x_B = R̃ (p_W − x_c); a link-frame one is already in B.

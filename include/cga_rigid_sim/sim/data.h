@@ -33,7 +33,8 @@ struct MovingBodyData {
   dynamics::BodyState state;                         ///< motor M_WB, bivelocity Ω_B
   std::unique_ptr<dynamics::Integrator> integrator;  ///< one per body (it may cache)
   dynamics::Loads loads;                             ///< gravity + its active wrenches
-  bool loads_dirty = false;  ///< its set of active wrenches changed this step
+  bool loads_dirty = false;         ///< its set of active wrenches changed this step
+  std::size_t active_wrenches = 0;  ///< its entries in Data::active
   StepPath last_path = StepPath::kNotStepped;
   /// What the contacts stage did with the body this step (doc/contacts.md#time-stepping).
   enum class ContactStep : std::uint8_t {
@@ -74,6 +75,16 @@ struct TreeData {
   std::vector<std::uint64_t> clamped_steps;  ///< per joint: steps its effort was clamped
 };
 
+/// Inputs refused when due to start, past a bound on active wrenches (WorldConfig): counted,
+/// and the last one described, without allocating in the step.
+struct StartRefusals {
+  std::uint64_t count = 0;
+  QueuedInput input;       ///< the last one
+  std::uint64_t step = 0;  ///< the step it was due at
+  bool per_body = false;   ///< the bound per body (per tree) was reached, else the total one
+  std::size_t active = 0;  ///< what was active then, counted against that bound
+};
+
 struct Data {
   std::uint64_t step_count = 0;  ///< steps done; t = step_count·dt (never goes back)
 
@@ -85,6 +96,7 @@ struct Data {
   InputQueue queue;                           ///< validated inputs waiting for their step
   std::vector<ActiveWrench> active;           ///< started wrenches, in the order they started
   std::uint64_t next_expiry = kUntilCleared;  ///< smallest end_step in `active`
+  StartRefusals start_refusals;               ///< wrenches and timed efforts refused at start
 
   /// The contacts of the last step, with their impulses (stage_contacts.cc).
   std::vector<Contact> contacts;
