@@ -11,10 +11,14 @@ bool later(const QueuedInput& a, const QueuedInput& b) {
   return a.step != b.step ? a.step > b.step : a.arrival > b.arrival;
 }
 
+// Counts one more (sign > 0) or one less input at index i; the vector grows only when pushing.
 void add(std::vector<std::size_t>& v, int i, int sign) {
   if (i < 0) return;
-  if (static_cast<std::size_t>(i) >= v.size()) v.resize(i + 1, 0);  // only when pushing
-  v[i] += sign;
+  if (static_cast<std::size_t>(i) >= v.size()) v.resize(i + 1, 0);
+  if (sign > 0)
+    ++v[i];
+  else
+    --v[i];
 }
 
 }  // namespace
@@ -28,7 +32,12 @@ void InputQueue::count(const QueuedInput& q, int sign) {
     add(tree_inputs_, q.tree, sign);
     if (q.kind == QueuedInput::Kind::kTimedEffort) add(tree_timed_, q.tree, sign);
   }
-  if (wrench) wrenches_ += sign;
+  if (wrench) {
+    if (sign > 0)
+      ++wrenches_;
+    else
+      --wrenches_;
+  }
 }
 
 void InputQueue::push(QueuedInput in) {
