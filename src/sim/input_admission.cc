@@ -210,10 +210,12 @@ Result<bool> enqueue(const Model& model, Data& data, const QueuedInput& q,
     // wrench active or waiting, and never more than a bound lets start.
     const WorldConfig& c = model.config;
     MovingBodyData& b = data.bodies[q.body];
-    b.loads.reserveApplied(roomFor(b.active_wrenches + data.queue.wrenchCount(q.body) + 1,
-                                   c.max_active_wrenches_per_body));
-    data.active.reserve(
-        roomFor(data.active.size() + data.queue.wrenchCount() + 1, c.max_active_wrenches));
+    const std::size_t body_room = roomFor(b.wrenches.size() + data.queue.wrenchCount(q.body) + 1,
+                                          c.max_active_wrenches_per_body);
+    b.wrenches.reserve(body_room);
+    b.loads.reserveApplied(body_room);
+    data.expiries.reserve(
+        roomFor(data.active_wrenches + data.queue.wrenchCount() + 1, c.max_active_wrenches));
   }
   data.queue.push(q);
   return true;

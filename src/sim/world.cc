@@ -109,7 +109,7 @@ double World::time() const {
   return static_cast<double>(impl_->data.step_count) * impl_->model.config.dt;
 }
 std::uint64_t World::topologyVersion() const { return impl_->model.topology_version; }
-std::size_t World::activeWrenchCount() const { return impl_->data.active.size(); }
+std::size_t World::activeWrenchCount() const { return impl_->data.active_wrenches; }
 std::size_t World::queuedInputCount() const { return impl_->data.queue.size(); }
 std::uint64_t World::startRefusalCount() const { return impl_->data.start_refusals.count; }
 std::optional<Error> World::lastStartRefusal() const {

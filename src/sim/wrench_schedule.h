@@ -26,14 +26,16 @@ bool mayStart(const Model& model, Data& data, const QueuedInput& in, std::uint64
 /// point that is there now, x_B = R̃ (p_W − x_c); a link-frame one is already in B.
 void startWrench(const Model& model, Data& data, const QueuedInput& in, std::uint64_t k);
 
-/// Ends the wrenches whose last step was k − 1 (end_step ≤ k), keeping the others in order.
+/// Ends the wrenches whose last step was k − 1 (end_step ≤ k), keeping the others in order:
+/// O(log n) per ending wrench (a heap on end steps) plus its body's few wrenches, never a pass
+/// over every active wrench.
 void expireWrenches(Data& data, std::uint64_t k);
 
 /// Ends every active wrench now and drops the applied loads.
 void dropActiveWrenches(Data& data);
 
-/// Drops the active wrenches of moving body i and renumbers the bodies after it (i − 1), as
-/// when that body is deleted.
+/// Forgets the active wrenches of moving body i (its data is erased next) and renumbers the
+/// bodies after it (i − 1), as when that body is deleted.
 void removeActiveWrenchesOf(Data& data, int i);
 
 }  // namespace sim

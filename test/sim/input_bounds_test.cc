@@ -293,6 +293,58 @@ TEST(InputBounds, JointEffortsShareTheBounds) {
   EXPECT_NEAR(w.jointStates().back().effort, 0.2 + 2 * 0.3, 1e-15);  // sums of 3 decimals
 }
 
+// Truth: expiry by the heap of end steps. World A gets 300 link-frame wrenches on 5 bodies with
+// random starts and durations (1–30 steps); world B gets, for every step each of them acts in,
+// a one-step wrench — so B never relies on a wrench ending later than the step after it
+// started. Queued in (start step, A's arrival) order, B sums each body's loads in A's order, so
+// the two stay bit-identical at every step, with the same active count.
+TEST(InputBounds, WrenchesEndAtTheirStepWhateverTheirOrder) {
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 5; ++i)
+    bodies.push_back(movingBody("b" + std::to_string(i), 1.0 + i, {0.1, 0.2, 0.25},
+                                Eigen::Quaterniond::Identity(), {0, 0, 0}, {0.3, 1.0, 0.2}));
+  sim::WorldConfig c;
+  c.max_queued_inputs = c.max_queued_inputs_per_body = 100000;
+  auto a = sim::World::create(makeScene(bodies), c).value();
+  auto b = sim::World::create(makeScene(bodies), c).value();
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> start(0, 99), steps(1, 30), body(0, 4);
+  struct W {
+    int start, steps, body;
+    double fx;
+  };
+  std::vector<W> ws;
+  for (int i = 0; i < 300; ++i) ws.push_back({start(rng), steps(rng), body(rng), 0.01 * (i + 1)});
+  const double dt = c.dt;
+  auto input = [&](const W& w, double duration, int at) {
+    sim::WrenchInput in;
+    in.body = "b" + std::to_string(w.body);
+    in.frame = in.body;  // link frame: fixed in the body, the same whenever it starts
+    in.F = cga::Force(Eigen::Vector3d(w.fx, 0.1, 0));
+    in.point = Eigen::Vector3d(0, 0.05, 0.02);
+    in.start_time = at * dt;
+    in.duration = duration;
+    return in;
+  };
+  for (const W& w : ws) ASSERT_TRUE(a->applyWrench(input(w, w.steps * dt, w.start)).ok());
+  std::vector<int> order(ws.size());  // A's start order: by start step, then arrival
+  for (std::size_t i = 0; i < ws.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int x, int y) { return ws[x].start < ws[y].start; });
+  for (int s = 0; s < 130; ++s)
+    for (int i : order)
+      if (ws[i].start <= s && s < ws[i].start + ws[i].steps) {
+        ASSERT_TRUE(b->applyWrench(input(ws[i], 0.0, s)).ok());
+      }
+  for (int s = 0; s < 140; ++s) {
+    a->step();
+    b->step();
+    ASSERT_TRUE(sameStates(*a, *b)) << "step " << s;
+  }
+  EXPECT_EQ(a->activeWrenchCount(), 0u);
+  EXPECT_EQ(a->startRefusalCount(), 0u);
+}
+
 // Truth: WorldConfig's rule for the bounds (each ≥ 1), as World::create says it.
 TEST(InputBounds, CreateRefusesABoundBelowOne) {
   sim::WorldConfig c;
