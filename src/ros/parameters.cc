@@ -3,8 +3,12 @@
 #include <ros/param.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -44,6 +48,160 @@ Error wrongType(const std::string& name, const char* expected, const XmlRpcValue
   return Error{name + ": expected " + expected + ", got " + typeName(v)};
 }
 
+// ---- Parameters typed as text ----
+//
+// One rule for every parameter: when a parameter that is not a string arrives as a string —
+// rosrun hands `_gravity:=[0,0,0]` and `_initial_state:={...}` over so, a launch file's
+// <param value="…"/> may, and YAML 1.1 reads `1e-3` (no dot) as a string — the string is read
+// as a one-line YAML flow value (a number, true/false, [a, b], {key: value}, nested) and must
+// then have the parameter's type. A string that is not such a value, or reads as the wrong
+// type, is refused with the form the parameter takes.
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return {};
+  return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A plain YAML scalar: an integer (int), another number (double), a YAML 1.1 boolean, else the
+// string itself.
+XmlRpcValue plainScalar(const std::string& text) {
+  const std::string t = trim(text);
+  if (!t.empty()) {
+    char* end = nullptr;
+    errno = 0;
+    const long n = std::strtol(t.c_str(), &end, 10);
+    if (end == t.c_str() + t.size() && errno == 0 && n >= INT_MIN && n <= INT_MAX)
+      return XmlRpcValue(static_cast<int>(n));
+    const double d = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() + t.size()) return XmlRpcValue(d);
+    const std::string l = lower(t);
+    if (l == "true" || l == "yes" || l == "on") return XmlRpcValue(true);
+    if (l == "false" || l == "no" || l == "off") return XmlRpcValue(false);
+  }
+  return XmlRpcValue(t);
+}
+
+// Recursive descent over a YAML flow value; nesting is bounded so that no input can exhaust the
+// stack.
+class FlowParser {
+ public:
+  explicit FlowParser(const std::string& text) : s_(text) {}
+  std::optional<XmlRpcValue> parseWhole() {
+    auto v = value(0);
+    skipSpace();
+    if (!v || i_ != s_.size()) return std::nullopt;
+    return v;
+  }
+
+ private:
+  static constexpr int kMaxDepth = 32;
+  void skipSpace() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
+  }
+  bool eat(char c) {
+    skipSpace();
+    if (i_ < s_.size() && s_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+  // A scalar: quoted, or plain up to one of `stops` at the top of this level.
+  std::optional<XmlRpcValue> scalar(const char* stops) {
+    skipSpace();
+    if (i_ < s_.size() && (s_[i_] == '"' || s_[i_] == '\'')) {
+      const char q = s_[i_++];
+      const std::size_t close = s_.find(q, i_);
+      if (close == std::string::npos) return std::nullopt;
+      XmlRpcValue v(s_.substr(i_, close - i_));
+      i_ = close + 1;
+      return v;
+    }
+    const std::size_t from = i_;
+    while (i_ < s_.size() && !std::strchr(stops, s_[i_]) && s_[i_] != '[' && s_[i_] != '{') ++i_;
+    const std::string t = trim(s_.substr(from, i_ - from));
+    if (t.empty()) return std::nullopt;
+    return plainScalar(t);
+  }
+  std::optional<XmlRpcValue> value(int depth) {
+    if (depth > kMaxDepth) return std::nullopt;
+    if (eat('[')) {
+      XmlRpcValue list;
+      list.setSize(0);  // an empty array, not an invalid value, for "[]"
+      if (eat(']')) return list;
+      do {
+        auto item = value(depth + 1);
+        if (!item) return std::nullopt;
+        list[list.size()] = *item;
+      } while (eat(','));
+      if (!eat(']')) return std::nullopt;
+      return list;
+    }
+    if (eat('{')) {
+      XmlRpcValue map;
+      map.begin();  // an empty struct, not an invalid value, for "{}"
+      if (eat('}')) return map;
+      do {
+        auto key = scalar(":,}");
+        if (!key || !eat(':')) return std::nullopt;
+        const std::string k = key->getType() == XmlRpcValue::TypeString
+                                  ? static_cast<std::string&>(*key)
+                                  : trim(keyText(*key));
+        if (map.hasMember(k)) return std::nullopt;
+        auto item = value(depth + 1);
+        if (!item) return std::nullopt;
+        map[k] = *item;
+      } while (eat(','));
+      if (!eat('}')) return std::nullopt;
+      return map;
+    }
+    return scalar(",]}");
+  }
+  // A key that read as a number or boolean keeps its text ({1: …} names key "1").
+  std::string keyText(XmlRpcValue& v) {
+    std::ostringstream os;
+    if (v.getType() == XmlRpcValue::TypeBoolean)
+      os << (static_cast<bool&>(v) ? "true" : "false");
+    else if (v.getType() == XmlRpcValue::TypeInt)
+      os << static_cast<int&>(v);
+    else
+      os << formatNumber(static_cast<double&>(v), 17);
+    return os.str();
+  }
+
+  const std::string& s_;
+  std::size_t i_ = 0;
+};
+
+// The parameter `key`, with a string read as a YAML flow value when `expected` is not a string
+// type; false when unset.
+Result<bool> getTyped(const ::ros::NodeHandle& pnh, const std::string& key, XmlRpcValue* v,
+                      std::string* text) {
+  if (!pnh.getParam(key, *v)) return false;
+  text->clear();
+  if (v->getType() == XmlRpcValue::TypeString) {
+    *text = static_cast<const std::string&>(*v);
+    if (auto parsed = FlowParser(*text).parseWhole()) *v = *parsed;
+  }
+  return true;
+}
+
+// "~dt: expected a number, got string 'abc' (rosrun: _dt:=0.001)".
+Error wrongForm(const std::string& key, const std::string& form, const std::string& example,
+                const XmlRpcValue& v, const std::string& text) {
+  std::string got = typeName(v);
+  if (!text.empty() || v.getType() == XmlRpcValue::TypeString) got = "string '" + text + "'";
+  const bool quote = example.find_first_of(" [{") != std::string::npos;
+  return Error{"~" + key + ": expected " + form + ", got " + got + " (rosrun: _" + key +
+               ":=" + (quote ? "\"" + example + "\"" : example) + ")"};
+}
+
 // A number (int or double) as double.
 Result<double> asNumber(const XmlRpcValue& v, const std::string& name) {
   if (v.getType() == XmlRpcValue::TypeInt) return static_cast<double>(static_cast<const int&>(v));
@@ -60,19 +218,46 @@ Result<double> asFiniteNumber(const XmlRpcValue& v, const std::string& name) {
 }
 
 // Each reader leaves `out` unchanged (the default) when the parameter is not set.
-Result<bool> readNumber(const ::ros::NodeHandle& pnh, const std::string& key, double* out) {
+Result<bool> readNumber(const ::ros::NodeHandle& pnh, const std::string& key, double* out,
+                        const char* example) {
   XmlRpcValue v;
-  if (!pnh.getParam(key, v)) return false;
+  std::string text;
+  auto set = getTyped(pnh, key, &v, &text);
+  if (!set || !*set) return set;
+  if (v.getType() != XmlRpcValue::TypeInt && v.getType() != XmlRpcValue::TypeDouble)
+    return wrongForm(key, "a number", example, v, text);
   auto d = asFiniteNumber(v, "~" + key);
   if (!d) return Error{d.error()};
   *out = *d;
   return true;
 }
 
+// A whole number in [lo, hi] (an int, or a double that is whole).
+Result<bool> readWhole(const ::ros::NodeHandle& pnh, const std::string& key, int* out, int lo,
+                       int hi, const char* example, const char* meaning = "") {
+  double d = *out;
+  auto set = readNumber(pnh, key, &d, example);
+  if (!set || !*set) return set;
+  if (d != std::floor(d) || d < lo || d > hi)
+    return Error{"~" + key + ": must be a whole number from " + std::to_string(lo) + meaning +
+                 " to " + std::to_string(hi) + " (got " + formatNumber(d) + ")"};
+  *out = static_cast<int>(d);
+  return true;
+}
+
+// true or false; also as text (true/false, yes/no, on/off, any case) or the numbers 1 and 0.
 Result<bool> readBool(const ::ros::NodeHandle& pnh, const std::string& key, bool* out) {
   XmlRpcValue v;
-  if (!pnh.getParam(key, v)) return false;
-  if (v.getType() != XmlRpcValue::TypeBoolean) return wrongType("~" + key, "true or false", v);
+  std::string text;
+  auto set = getTyped(pnh, key, &v, &text);
+  if (!set || !*set) return set;
+  if (v.getType() == XmlRpcValue::TypeInt &&
+      (static_cast<int&>(v) == 0 || static_cast<int&>(v) == 1)) {
+    *out = static_cast<int&>(v) == 1;
+    return true;
+  }
+  if (v.getType() != XmlRpcValue::TypeBoolean)
+    return wrongForm(key, "true or false", "true", v, text);
   *out = static_cast<const bool&>(v);
   return true;
 }
@@ -85,12 +270,14 @@ Result<bool> readString(const ::ros::NodeHandle& pnh, const std::string& key, st
   return true;
 }
 
-Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key,
-                         Eigen::Vector3d* out) {
+Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key, Eigen::Vector3d* out,
+                         const char* example) {
   XmlRpcValue v;
-  if (!pnh.getParam(key, v)) return false;
+  std::string text;
+  auto set = getTyped(pnh, key, &v, &text);
+  if (!set || !*set) return set;
   if (v.getType() != XmlRpcValue::TypeArray || v.size() != 3)
-    return Error{"~" + key + ": expected a list of 3 numbers, got " + typeName(v)};
+    return wrongForm(key, std::string("a list of 3 numbers such as ") + example, example, v, text);
   Eigen::Vector3d x;
   for (int i = 0; i < 3; ++i) {
     auto d = asFiniteNumber(v[i], "~" + key + "[" + std::to_string(i) + "]");
@@ -101,63 +288,26 @@ Result<bool> readVector3(const ::ros::NodeHandle& pnh, const std::string& key,
   return true;
 }
 
-// How ~ground_plane is written, for its errors.
-constexpr const char* kGroundPlaneForm =
-    "a dictionary such as {height: 0.0, mu: 0.8, restitution: 0.2} (every key optional)";
-
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\n");
-  if (first == std::string::npos) return {};
-  return s.substr(first, s.find_last_not_of(" \t\n") - first + 1);
-}
-
-// A one-level YAML flow mapping of plain scalars, "{height: 0.0, mu: 0.8}", as the dictionary
-// rosparam would have made of it: a value that reads whole as a number becomes a double, any
-// other a string (which the dictionary's rules then refuse by name). rosrun's
-// _ground_plane:={...} and a launch file's <param value="{...}"/> hand the parameter over as
-// such a string. Nothing else is YAML here: a string that is not of this form is refused.
-Result<XmlRpcValue> parseFlowMapping(const std::string& text, const std::string& name) {
-  const std::string t = trim(text);
-  const Error refused{name + ": expected " + kGroundPlaneForm + ", got string '" + text + "'"};
-  if (t.size() < 2 || t.front() != '{' || t.back() != '}') return refused;
-  XmlRpcValue map;
-  map.begin();  // an empty struct, not an invalid value, for "{}"
-  const std::string inner = trim(t.substr(1, t.size() - 2));
-  if (inner.empty()) return map;
-  std::size_t start = 0;
-  while (start <= inner.size()) {
-    const std::size_t comma = std::min(inner.find(',', start), inner.size());
-    const std::string item = inner.substr(start, comma - start);
-    const std::size_t colon = item.find(':');
-    if (colon == std::string::npos) return refused;
-    const std::string key = trim(item.substr(0, colon));
-    const std::string value = trim(item.substr(colon + 1));
-    if (key.empty() || value.empty()) return refused;
-    if (map.hasMember(key)) return Error{name + "." + key + ": given twice"};
-    char* end = nullptr;
-    const double d = std::strtod(value.c_str(), &end);
-    if (end == value.c_str() + value.size())
-      map[key] = d;
-    else
-      map[key] = value;
-    start = comma + 1;
-  }
-  return map;
+// A dictionary (also as text, "{a: 1.0, b: {c: [1, 2]}}").
+Result<bool> readDictionary(const ::ros::NodeHandle& pnh, const std::string& key, XmlRpcValue* out,
+                            const char* example) {
+  std::string text;
+  auto set = getTyped(pnh, key, out, &text);
+  if (!set || !*set) return set;
+  if (out->getType() != XmlRpcValue::TypeStruct)
+    return wrongForm(key, std::string("a dictionary such as ") + example, example, *out, text);
+  return true;
 }
 
 // ~ground_plane: a dictionary {height (m), mu, restitution}, each key optional (height 0, μ and
-// e unset = ~contact_mu, ~contact_restitution), or the same as a string (parseFlowMapping).
-// Unset: no plane. The core checks the ranges (μ >= 0, e in [0, 1]).
+// e unset = ~contact_mu, ~contact_restitution), or the same as a string. Unset: no plane. The
+// core checks the ranges (μ >= 0, e in [0, 1]).
 Result<bool> readGroundPlane(const ::ros::NodeHandle& pnh, std::optional<sim::GroundPlane>* out) {
   const std::string name = "~ground_plane";
   XmlRpcValue v;
-  if (!pnh.getParam("ground_plane", v)) return false;
-  if (v.getType() == XmlRpcValue::TypeString) {
-    auto parsed = parseFlowMapping(static_cast<const std::string&>(v), name);
-    if (!parsed) return Error{parsed.error()};
-    v = *parsed;
-  }
-  if (v.getType() != XmlRpcValue::TypeStruct) return wrongType(name, kGroundPlaneForm, v);
+  auto set = readDictionary(pnh, "ground_plane", &v, "{height: 0.0, mu: 0.8, restitution: 0.2}");
+  // (every key optional)
+  if (!set || !*set) return set;
   sim::GroundPlane plane;
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string field = name + "." + it->first;
@@ -184,7 +334,10 @@ const std::vector<std::string>& knownPrivateParams() {
       "ground_plane", "contact_mu", "contact_restitution",
       // ~markers (README "Seeing the simulation")
       "marker_length", "marker_angular_momentum_ref", "marker_angular_velocity_ref",
-      "marker_force_ref"};
+      "marker_force_ref",
+      // bounds on inputs
+      "max_queued_inputs", "max_queued_inputs_per_body", "max_active_wrenches",
+      "max_active_wrenches_per_body"};
   return kNames;
 }
 
@@ -259,56 +412,66 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   }
 
   CGA_RIGID_SIM_READ(readString(pnh, "integrator", &p.world.integrator));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "dt", &p.world.dt));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "max_force", &p.world.max_force));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "max_impulse", &p.world.max_impulse));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "dt", &p.world.dt, "0.001"));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "max_force", &p.world.max_force, "1000000.0"));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "max_impulse", &p.world.max_impulse, "10000.0"));
   CGA_RIGID_SIM_READ(readString(pnh, "world_frame", &p.world.world_frame));
   if (p.world.world_frame.empty()) return Error{"~world_frame: must not be empty"};
   p.scene.world_frame = p.world.world_frame;
-  CGA_RIGID_SIM_READ(readVector3(pnh, "gravity", &p.scene.gravity_W));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "lambda", &p.scene.lambda));
+  CGA_RIGID_SIM_READ(readVector3(pnh, "gravity", &p.scene.gravity_W, "[0.0, 0.0, -9.81]"));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "lambda", &p.scene.lambda, "1.0"));
   bool relax_inertia = false;
   CGA_RIGID_SIM_READ(readBool(pnh, "relax_inertia", &relax_inertia));
   p.scene.triangle_policy = relax_inertia ? dynamics::TrianglePolicy::kNearestPhysical
                                           : dynamics::TrianglePolicy::kRefuse;
   CGA_RIGID_SIM_READ(readGroundPlane(pnh, &p.world.ground_plane));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu, "0.5"));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution, "0.0"));
   XmlRpcValue initial_state;
-  if (pnh.getParam("initial_state", initial_state)) {
+  auto has_initial_state = readDictionary(pnh, "initial_state", &initial_state,
+                                          "{racket_handle: {angular_velocity: [0.0, 10.0, 0.1]}}");
+  if (!has_initial_state) return Error{has_initial_state.error()};
+  if (*has_initial_state) {
     auto value = toParamValue(initial_state, "~initial_state");
     if (!value) return Error{value.error()};
     p.scene.initial_state = std::move(*value);
   }
 
-  CGA_RIGID_SIM_READ(readNumber(pnh, "real_time_factor", &p.real_time_factor));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "real_time_factor", &p.real_time_factor, "1.0"));
   if (p.real_time_factor < 0.0)
     return Error{"~real_time_factor: must be >= 0 (0 = as fast as possible)"};
-  CGA_RIGID_SIM_READ(readNumber(pnh, "publish_rate", &p.publish_rate));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "publish_rate", &p.publish_rate, "100.0"));
   if (!(p.publish_rate > 0.0)) return Error{"~publish_rate: must be > 0 Hz"};
   CGA_RIGID_SIM_READ(readBool(pnh, "publish_clock", &p.publish_clock));
-  CGA_RIGID_SIM_READ(readNumber(pnh, "clock_rate", &p.clock_rate));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "clock_rate", &p.clock_rate, "1000.0"));
   if (p.clock_rate < 0.0) return Error{"~clock_rate: must be > 0 Hz (or unset: every step)"};
   CGA_RIGID_SIM_READ(readBool(pnh, "paused", &p.paused));
-  double threads = 0.0;  // 0: the cores available
-  CGA_RIGID_SIM_READ(readNumber(pnh, "threads", &threads));
-  if (threads != std::floor(threads) || threads < 0 || threads > sim::kMaxThreads)
-    return Error{"~threads: must be a whole number from 0 (the cores available) to " +
-                 std::to_string(sim::kMaxThreads) + " (got " + formatNumber(threads) + ")"};
-  p.world.threads = threads > 0
-                        ? static_cast<int>(threads)
-                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  int threads = 0;  // 0: the cores available
+  CGA_RIGID_SIM_READ(
+      readWhole(pnh, "threads", &threads, 0, sim::kMaxThreads, "2", " (the cores available)"));
+  p.world.threads =
+      threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  // The bounds on inputs (README "Limits and bounds").
+  constexpr int kMaxBound = 100000000;  // 1e8 inputs of ~150 bytes: 15 GB, past any machine
+  CGA_RIGID_SIM_READ(
+      readWhole(pnh, "max_queued_inputs", &p.world.max_queued_inputs, 1, kMaxBound, "10000"));
+  CGA_RIGID_SIM_READ(readWhole(pnh, "max_queued_inputs_per_body",
+                               &p.world.max_queued_inputs_per_body, 1, kMaxBound, "1000"));
+  CGA_RIGID_SIM_READ(
+      readWhole(pnh, "max_active_wrenches", &p.world.max_active_wrenches, 1, kMaxBound, "1000"));
+  CGA_RIGID_SIM_READ(readWhole(pnh, "max_active_wrenches_per_body",
+                               &p.world.max_active_wrenches_per_body, 1, kMaxBound, "64"));
   // ~markers scaling (include/cga_rigid_sim/ros/markers.h): ℓ > 0; references ≥ 0, 0 = chosen.
-  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_length", &p.markers.length));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_length", &p.markers.length, "0.25"));
   if (!(p.markers.length > 0.0)) return Error{"~marker_length: must be > 0 m"};
   for (auto [name, ref] :
        {std::pair{"marker_angular_momentum_ref", &p.markers.angular_momentum_ref},
         std::pair{"marker_angular_velocity_ref", &p.markers.angular_velocity_ref}}) {
-    CGA_RIGID_SIM_READ(readNumber(pnh, name, ref));
+    CGA_RIGID_SIM_READ(readNumber(pnh, name, ref, "0.0"));
     if (!(*ref >= 0.0))
       return Error{std::string("~") + name + ": must be >= 0 (0 = chosen from the motion)"};
   }
-  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_force_ref", &p.markers.force_ref));
+  CGA_RIGID_SIM_READ(readNumber(pnh, "marker_force_ref", &p.markers.force_ref, "10.0"));
   if (!(p.markers.force_ref > 0.0)) return Error{"~marker_force_ref: must be > 0 N"};
 #undef CGA_RIGID_SIM_READ
 

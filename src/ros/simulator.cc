@@ -185,6 +185,7 @@ void Simulator::advance(std::uint64_t n) {
 }
 
 void Simulator::publishAfterStep() {
+  noteStartRefusals();
   const std::uint64_t s = world_->stepCount();
   if (params_.publish_clock && clock_ticks_.isTick(s)) publishClock();
   if (output_ticks_.isTick(s)) publishOutputs();
@@ -251,6 +252,15 @@ void Simulator::publishRejectedCount() {
   std_msgs::UInt64 msg;
   msg.data = rejected_;
   rejected_pub_.publish(msg);
+}
+
+void Simulator::noteStartRefusals() {
+  const std::uint64_t n = world_->startRefusalCount();
+  if (n == start_refusals_seen_) return;
+  const auto last = world_->lastStartRefusal();
+  rejected_ += n - start_refusals_seen_ - 1;  // refuse() counts the last one
+  start_refusals_seen_ = n;
+  refuse(last->input + " (at its start)", last->message());
 }
 
 void Simulator::refuse(const std::string& what, const std::string& why) {

@@ -81,6 +81,9 @@ class Simulator {
   /// Counts and logs one refused input; `what` names the topic or service. The warning names
   /// the message, the field and the rule; at most one per kRefusalLogPeriod per `what`.
   void refuse(const std::string& what, const std::string& why);
+  /// Counts and warns about the inputs the World refused when they were due to start (past a
+  /// bound on active wrenches; sim::World::startRefusalCount).
+  void noteStartRefusals();
   /// Called by every service: the wall time it took must not count against real time.
   void markDisturbed() { disturbed_ = true; }
 
@@ -117,6 +120,7 @@ class Simulator {
   bool paused_ = false;
   bool disturbed_ = false;
   std::uint64_t rejected_ = 0;
+  std::uint64_t start_refusals_seen_ = 0;  ///< of world_->startRefusalCount()
   struct Throttle {
     bool shown = false;
     std::chrono::steady_clock::time_point last{};

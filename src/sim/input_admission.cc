@@ -165,15 +165,60 @@ Result<QueuedInput> admitImpulse(const Model& model, const Data& data, const Imp
   return resolve(model, data, f, QueuedInput::Kind::kImpulse);
 }
 
-void enqueue(Data& data, const QueuedInput& q) {
+std::string targetName(const Model& model, const QueuedInput& q) {
+  if (q.kind == QueuedInput::Kind::kWrench || q.kind == QueuedInput::Kind::kImpulse)
+    return "body '" + model.bodyOf(q.body).name + "'";
+  const TreeModel& t = model.trees[q.tree];
+  return "the tree of joint '" + model.scene.joints[t.scene_joint[q.joint]].name + "'";
+}
+
+std::optional<Error> checkQueueRoom(const Model& model, const Data& data, const std::string& input,
+                                    const std::string& field, const QueuedInput& q, std::size_t n) {
+  const bool body = q.kind == QueuedInput::Kind::kWrench || q.kind == QueuedInput::Kind::kImpulse;
+  const std::size_t waiting = body ? data.queue.bodyCount(q.body) : data.queue.treeCount(q.tree);
+  const int bound = model.config.max_queued_inputs_per_body;
+  if (waiting + n > static_cast<std::size_t>(bound))
+    return Error(input, field,
+                 targetName(model, q) + " already has " + std::to_string(waiting) +
+                     " inputs waiting for their step (max_queued_inputs_per_body = " +
+                     std::to_string(bound) + ")");
+  return checkQueueTotal(model, data, input, n);
+}
+
+std::optional<Error> checkQueueTotal(const Model& model, const Data& data, const std::string& input,
+                                     std::size_t n) {
+  const int bound = model.config.max_queued_inputs;
+  if (data.queue.size() + n > static_cast<std::size_t>(bound))
+    return Error(input, "start_time",
+                 std::to_string(data.queue.size()) +
+                     " inputs are already waiting for their step (max_queued_inputs = " +
+                     std::to_string(bound) + ")");
+  return std::nullopt;
+}
+
+std::size_t roomFor(std::size_t needed, int bound) {
+  std::size_t n = 1;
+  while (n < needed) n *= 2;
+  return std::min(n, static_cast<std::size_t>(bound));
+}
+
+Result<bool> enqueue(const Model& model, Data& data, const QueuedInput& q,
+                     const std::string& input) {
+  if (auto e = checkQueueRoom(model, data, input, "body", q)) return *e;
   if (q.kind == QueuedInput::Kind::kWrench) {
-    // Room for this wrench when it starts, so the step does not allocate.
-    std::size_t body_active = 0;
-    for (const auto& a : data.active) body_active += a.body == q.body;
-    data.bodies[q.body].loads.reserveApplied(body_active + data.queue.wrenchCount(q.body) + 1);
-    data.active.reserve(data.active.size() + data.queue.size() + 1);
+    // Room for this wrench when it starts, so the step does not allocate: at most every
+    // wrench active or waiting, and never more than a bound lets start.
+    const WorldConfig& c = model.config;
+    MovingBodyData& b = data.bodies[q.body];
+    const std::size_t body_room = roomFor(b.wrenches.size() + data.queue.wrenchCount(q.body) + 1,
+                                          c.max_active_wrenches_per_body);
+    b.wrenches.reserve(body_room);
+    b.loads.reserveApplied(body_room);
+    data.expiries.reserve(
+        roomFor(data.active_wrenches + data.queue.wrenchCount() + 1, c.max_active_wrenches));
   }
   data.queue.push(q);
+  return true;
 }
 
 }  // namespace sim

@@ -4,6 +4,8 @@
 // room its start will need, so the step never allocates. Internal to the sim layer.
 #pragma once
 
+#include <cstddef>
+#include <optional>
 #include <string>
 
 #include "cga_rigid_sim/result.h"
@@ -26,9 +28,28 @@ Result<std::uint64_t> stepOf(const Model& model, const Data& data, const std::st
 Result<QueuedInput> admitWrench(const Model& model, const Data& data, const WrenchInput& in);
 Result<QueuedInput> admitImpulse(const Model& model, const Data& data, const ImpulseInput& in);
 
-/// Queues an admitted input; for a wrench, reserves room for it among its body's loads and
-/// among the active wrenches.
-void enqueue(Data& data, const QueuedInput& q);
+/// The refusal of `n` more waiting inputs like `q` for its moving body (wrench, impulse) or its
+/// tree (joint effort) past ~max_queued_inputs_per_body, or past ~max_queued_inputs in all, or
+/// nothing. `field` names the body or joint in the refusal.
+std::optional<Error> checkQueueRoom(const Model& model, const Data& data, const std::string& input,
+                                    const std::string& field, const QueuedInput& q,
+                                    std::size_t n = 1);
+/// The same for ~max_queued_inputs alone.
+std::optional<Error> checkQueueTotal(const Model& model, const Data& data, const std::string& input,
+                                     std::size_t n);
+/// "body 'box'", or for a joint effort "the tree of joint 'elbow'" (trees are named by their
+/// root, often "world").
+std::string targetName(const Model& model, const QueuedInput& q);
+
+/// A capacity of at least `needed` for a list that never holds more than `bound`: the next
+/// power of two (so growing one by one reallocates O(log n) times), capped at the bound.
+std::size_t roomFor(std::size_t needed, int bound);
+
+/// Queues an admitted input unless the queue is at a bound (then the refusal, nothing
+/// changed); for a wrench, reserves room for it among its body's loads and among the active
+/// wrenches, so that its start does not allocate.
+Result<bool> enqueue(const Model& model, Data& data, const QueuedInput& q,
+                     const std::string& input);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -2,6 +2,7 @@
 #include "joint_efforts.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "cga_rigid_sim/format.h"
@@ -66,6 +67,15 @@ Result<bool> queueJointEfforts(const Model& model, Data& data, const JointEffort
     q.effort = in.efforts[n];
     out.push_back(q);
   }
+  // The bounds on waiting inputs, for the message as a whole (refused whole or queued whole).
+  std::map<int, std::pair<std::size_t, const QueuedInput*>> per_tree;  // count, first entry
+  for (const QueuedInput& q : out) {
+    auto& [n, first] = per_tree[q.tree];
+    if (n++ == 0) first = &q;
+  }
+  for (const auto& [tree, entry] : per_tree)
+    if (auto e = checkQueueRoom(model, data, what, "name", *entry.second, entry.first)) return *e;
+  if (auto e = checkQueueTotal(model, data, what, out.size())) return *e;
   for (const QueuedInput& q : out) data.queue.push(q);
   return true;
 }
@@ -100,8 +110,12 @@ Result<bool> queueTimedJointEffort(const Model& model, Data& data,
   q.joint = joint->second;
   q.effort = in.effort;
   q.steps = steps;
+  if (auto e = checkQueueRoom(model, data, what, "joint", q)) return *e;
+  // Room for it when it starts, so the step does not allocate: at most every timed effort of
+  // the tree active or waiting, and never more than the bound lets start.
   TreeData& td = data.trees[q.tree];
-  td.timed.reserve(td.timed.size() + data.queue.size() + 1);  // the step does not allocate
+  td.timed.reserve(roomFor(td.timed.size() + data.queue.timedEffortCount(q.tree) + 1,
+                           model.config.max_active_wrenches_per_body));
   data.queue.push(q);
   return true;
 }

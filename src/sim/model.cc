@@ -2,6 +2,7 @@
 #include "cga_rigid_sim/sim/model.h"
 
 #include <cmath>
+#include <utility>
 
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "input_rules.h"
@@ -64,6 +65,12 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
     return Error("config", "max_impulse",
                  "must be finite and > 0 (got " + num(config.max_impulse) + ")");
   if (config.world_frame.empty()) return Error("config", "world_frame", "must not be empty");
+  for (const auto& [name, bound] :
+       {std::pair<const char*, int>{"max_queued_inputs", config.max_queued_inputs},
+        {"max_queued_inputs_per_body", config.max_queued_inputs_per_body},
+        {"max_active_wrenches", config.max_active_wrenches},
+        {"max_active_wrenches_per_body", config.max_active_wrenches_per_body}})
+    if (bound < 1) return Error("config", name, "must be ≥ 1 (got " + std::to_string(bound) + ")");
   if (config.threads < 1 || config.threads > kMaxThreads)
     return Error("config", "threads",
                  "must be from 1 to " + std::to_string(kMaxThreads) + " (got " +

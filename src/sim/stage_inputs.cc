@@ -41,6 +41,8 @@ void applyDueInputs(const Model& model, Data& data) {
       applyImpulseNow(model, data, *in);
     } else if (in->kind == QueuedInput::Kind::kHeldEffort) {
       data.trees[in->tree].held_effort[in->joint] = in->effort;
+    } else if (!mayStart(model, data, *in, k)) {
+      continue;  // past a bound on active inputs: refused, counted in data.start_refusals
     } else if (in->kind == QueuedInput::Kind::kTimedEffort) {
       // Room was reserved when it was queued (World::applyJointEffort).
       data.trees[in->tree].timed.push_back(

@@ -8,12 +8,12 @@ namespace sim {
 
 void updateLoads(const Model& /*model*/, Data& data) {
   if (data.dirty_list.empty()) return;
-  for (int i : data.dirty_list) data.bodies[i].loads.clearApplied();
-  for (const auto& a : data.active) {
-    MovingBodyData& b = data.bodies[a.body];
-    if (b.loads_dirty) b.loads.add(a.load);  // room reserved when the wrench was queued
+  for (int i : data.dirty_list) {
+    MovingBodyData& b = data.bodies[i];
+    b.loads.clearApplied();
+    for (const ActiveWrench& a : b.wrenches) b.loads.add(a.load);  // room reserved when queued
+    b.loads_dirty = false;
   }
-  for (int i : data.dirty_list) data.bodies[i].loads_dirty = false;
   data.dirty_list.clear();
 }
 

@@ -61,15 +61,13 @@ void World::step(std::uint64_t n) {
 Result<bool> World::applyWrench(const WrenchInput& in) {
   auto q = admitWrench(impl_->model, impl_->data, in);
   if (!q) return q.failure();
-  enqueue(impl_->data, *q);
-  return true;
+  return enqueue(impl_->model, impl_->data, *q, "apply_wrench");
 }
 
 Result<bool> World::applyImpulse(const ImpulseInput& in) {
   auto q = admitImpulse(impl_->model, impl_->data, in);
   if (!q) return q.failure();
-  enqueue(impl_->data, *q);
-  return true;
+  return enqueue(impl_->model, impl_->data, *q, "apply_impulse");
 }
 
 void World::clearWrenches() {
@@ -112,8 +110,28 @@ double World::time() const {
   return static_cast<double>(impl_->data.step_count) * impl_->model.config.dt;
 }
 std::uint64_t World::topologyVersion() const { return impl_->model.topology_version; }
-std::size_t World::activeWrenchCount() const { return impl_->data.active.size(); }
+std::size_t World::activeWrenchCount() const { return impl_->data.active_wrenches; }
 std::size_t World::queuedInputCount() const { return impl_->data.queue.size(); }
+std::uint64_t World::startRefusalCount() const { return impl_->data.start_refusals.count; }
+std::optional<Error> World::lastStartRefusal() const {
+  const Model& m = impl_->model;
+  const StartRefusals& r = impl_->data.start_refusals;
+  if (r.count == 0) return std::nullopt;
+  const bool wrench = r.input.kind == QueuedInput::Kind::kWrench;
+  const bool known = wrench ? r.input.body < static_cast<int>(m.moving.size())
+                            : r.input.tree < static_cast<int>(m.trees.size());
+  const std::string who = known ? targetName(m, r.input) : "its body";  // deleted since
+  const std::string at = " at step " + std::to_string(r.step);
+  const std::string rule =
+      r.per_body
+          ? who + " already has " + std::to_string(r.active) + " active " +
+                (wrench ? "wrenches" : "timed joint efforts") + at +
+                " (max_active_wrenches_per_body = " +
+                std::to_string(m.config.max_active_wrenches_per_body) + ")"
+          : std::to_string(r.active) + " wrenches and timed joint efforts already act" + at +
+                " (max_active_wrenches = " + std::to_string(m.config.max_active_wrenches) + ")";
+  return Error(wrench ? "apply_wrench" : "apply_joint_effort", wrench ? "body" : "joint", rule);
+}
 
 Result<bool> World::setJointEfforts(const JointEffortInput& in) {
   return queueJointEfforts(impl_->model, impl_->data, in);

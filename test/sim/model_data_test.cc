@@ -52,9 +52,14 @@ const char* const kBallUrdf = R"(<robot name="ball">
   for (int i : d.dirty_list)
     if (i < 0 || static_cast<std::size_t>(i) >= d.bodies.size() || !d.bodies[i].loads_dirty)
       return ::testing::AssertionFailure() << "dirty-list entry " << i << " invalid";
-  for (const auto& a : d.active)
-    if (a.body < 0 || static_cast<std::size_t>(a.body) >= d.bodies.size())
-      return ::testing::AssertionFailure() << "active wrench on body " << a.body;
+  std::size_t active = 0;
+  for (const auto& b : d.bodies) active += b.wrenches.size();
+  if (active != d.active_wrenches)
+    return ::testing::AssertionFailure()
+           << active << " active wrenches, counted " << d.active_wrenches;
+  for (const auto& e : d.expiries)
+    if (e.body < 0 || static_cast<std::size_t>(e.body) >= d.bodies.size())
+      return ::testing::AssertionFailure() << "wrench ending on body " << e.body;
   return ::testing::AssertionSuccess();
 }
 

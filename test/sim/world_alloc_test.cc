@@ -127,6 +127,59 @@ TEST(WorldAllocation, StepDoesNotAllocate) {
   }
 }
 
+// Truth: the same contract at the bounds on inputs (world_config.h): a queue of 2000 inputs
+// (a heap popped in place), until-cleared wrenches past the bounds on active wrenches per body
+// and in all, refused in the step when they are due — nothing allocates.
+TEST(WorldAllocation, StepAtTheInputBoundsDoesNotAllocate) {
+  if (!CGA_RIGID_SIM_COUNT_ALLOCATIONS) GTEST_SKIP() << "operator new belongs to the sanitizer";
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 50; ++i)
+    bodies.push_back(movingBody("b" + std::to_string(i), 1.0, {0.1, 0.2, 0.25},
+                                Eigen::Quaterniond::Identity(), {0, 0, 0}, {0.3, 1.0, 2.0}));
+  sim::WorldConfig config;
+  config.max_queued_inputs = 2000;
+  config.max_queued_inputs_per_body = 100;
+  config.max_active_wrenches = 60;
+  config.max_active_wrenches_per_body = 3;
+  auto made = sim::World::create(makeScene(bodies), config);
+  ASSERT_TRUE(made.ok()) << made.error();
+  sim::World& w = *made.value();
+  const double dt = config.dt;
+  for (int k = 0; k < 2000; ++k) {
+    const std::string body = "b" + std::to_string(k % 50);
+    if (k % 2) {
+      sim::WrenchInput in;
+      in.body = body;
+      in.F = cga::Force(Eigen::Vector3d(0.01 * (k % 7), 0.1, 0));
+      in.point = Eigen::Vector3d(0, 0.1, 0);
+      in.start_time = ((k / 50) % 80) * dt;
+      in.duration = k % 3 ? -1.0 : 5 * dt;
+      ASSERT_TRUE(w.applyWrench(in).ok()) << k;
+    } else {
+      sim::ImpulseInput j;
+      j.body = body;
+      j.J = cga::Force(Eigen::Vector3d(0.001 * (k % 5), 0, 0));
+      j.start_time = ((k / 50) % 90) * dt;
+      ASSERT_TRUE(w.applyImpulse(j).ok()) << k;
+    }
+  }
+  EXPECT_FALSE(w.applyImpulse([] {
+                  sim::ImpulseInput j;
+                  j.body = "b0";
+                  return j;
+                }())
+                   .ok());  // the queue is full
+  w.step();                 // the integrators' first step may set up per-body caches
+  g_allocations = 0;
+  g_counting = true;
+  w.step(100);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(w.queuedInputCount(), 0u);
+  EXPECT_GT(w.startRefusalCount(), 0u);
+  EXPECT_LE(w.activeWrenchCount(), 60u);
+}
+
 // Truth: the same contract with the bodies split between two threads (sim/worker_pool.h): the
 // pool's hand-over (mutex, condition variables) allocates nothing either.
 TEST(WorldAllocation, ParallelStepDoesNotAllocate) {

@@ -204,6 +204,74 @@ TEST(WorldValidation, BadInputIsRefusedWithItsMessageAndChangesNothing) {
   EXPECT_TRUE(sameStates(*w, *twin));
 }
 
+// Truth: the bounds on inputs (world_config.h). A world filled to every bound — waiting inputs
+// per body and in all, active wrenches per body and in all — refuses each valid input past a
+// bound, when it arrives (waiting) or when it is due to start (active), with the message naming
+// the bound; afterwards it is bit-identical to a twin that got only the inputs within the
+// bounds, after 5 steps and after 100 more, with the same waiting and active counts.
+TEST(WorldValidation, InputsPastABoundAreRefusedAndChangeNothing) {
+  sim::WorldConfig config;
+  config.max_queued_inputs = 12;
+  config.max_queued_inputs_per_body = 8;
+  config.max_active_wrenches = 3;
+  config.max_active_wrenches_per_body = 2;
+  auto make = [&] {
+    auto w = sim::World::create(boxAndTable(), config);
+    EXPECT_TRUE(w.ok()) << w.error();
+    return std::move(w.value());
+  };
+  auto w = make(), twin = make();
+  auto both = [&](auto apply) {
+    ASSERT_TRUE(apply(*w).ok());
+    ASSERT_TRUE(apply(*twin).ok());
+  };
+  sim::WrenchInput forever = goodWrench();
+  forever.duration = -1;
+  // Active: the box's two and the ball's one fill both bounds; each world-only extra is refused
+  // when due (step 0), one past the box's bound and one past the total.
+  both([&](sim::World& x) { return x.applyWrench(forever); });
+  both([&](sim::World& x) { return x.applyWrench(forever); });
+  ASSERT_TRUE(w->applyWrench(forever).ok());  // box: 3rd, past max_active_wrenches_per_body
+  sim::WrenchInput ball = forever;
+  ball.body = "ball";
+  ball.frame = "";
+  both([&](sim::World& x) { return x.applyWrench(ball); });
+  ASSERT_TRUE(w->applyWrench(ball).ok());  // ball: 4th in all, past max_active_wrenches
+  w->step(5);
+  twin->step(5);
+  EXPECT_EQ(w->startRefusalCount(), 2u);
+  EXPECT_EQ(w->lastStartRefusal()->message(),
+            "apply_wrench.body: 3 wrenches and timed joint efforts already act at step 0 "
+            "(max_active_wrenches = 3)");
+  EXPECT_TRUE(sameStates(*w, *twin));
+  // Waiting: 8 far-future impulses fill the box's bound, 4 the total; then one more of each is
+  // refused on arrival with its message.
+  sim::ImpulseInput later = goodImpulse();
+  later.start_time = 1.0;
+  for (int i = 0; i < 8; ++i) both([&](sim::World& x) { return x.applyImpulse(later); });
+  auto r = w->applyImpulse(later);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(),
+            "apply_impulse.body: body 'box' already has 8 inputs waiting for their step "
+            "(max_queued_inputs_per_body = 8)");
+  sim::ImpulseInput ball_later = later;
+  ball_later.body = "ball";
+  for (int i = 0; i < 4; ++i) both([&](sim::World& x) { return x.applyImpulse(ball_later); });
+  r = w->applyImpulse(ball_later);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(),
+            "apply_impulse.start_time: 12 inputs are already waiting for their step "
+            "(max_queued_inputs = 12)");
+  EXPECT_TRUE(sameStates(*w, *twin));
+  EXPECT_EQ(w->queuedInputCount(), 12u);
+  EXPECT_EQ(w->queuedInputCount(), twin->queuedInputCount());
+  EXPECT_EQ(w->activeWrenchCount(), twin->activeWrenchCount());
+  w->step(1000);  // the impulses at 1 s act
+  twin->step(1000);
+  EXPECT_TRUE(sameStates(*w, *twin));
+  EXPECT_EQ(w->queuedInputCount(), 0u);
+}
+
 // Truth: the good inputs the bad ones were made from are accepted (so each refusal above is due
 // to the one field that was changed), including an empty frame (= the world frame) and a body
 // named by one of its links.

@@ -28,12 +28,20 @@ namespace sim {
 /// What the last step did with a body (for the summary).
 enum class StepPath : std::uint8_t { kNotStepped, kStepped, kAtRest };
 
+/// A wrench that has started: its load (point in B) and the first step it no longer acts in.
+struct ActiveWrench {
+  std::uint64_t end_step = kUntilCleared;
+  dynamics::AppliedLoad load;
+};
+
 /// The changing part of one moving body.
 struct MovingBodyData {
   dynamics::BodyState state;                         ///< motor M_WB, bivelocity Ω_B
   std::unique_ptr<dynamics::Integrator> integrator;  ///< one per body (it may cache)
   dynamics::Loads loads;                             ///< gravity + its active wrenches
   bool loads_dirty = false;  ///< its set of active wrenches changed this step
+  /// Its started wrenches, in the order they started (its loads sum them in that order).
+  std::vector<ActiveWrench> wrenches;
   StepPath last_path = StepPath::kNotStepped;
   /// What the contacts stage did with the body this step (doc/contacts.md#time-stepping).
   enum class ContactStep : std::uint8_t {
@@ -49,13 +57,6 @@ struct MovingBodyData {
 };
 
 struct ContactScratch;  // the contacts stage's geometry and arrays (src/sim/contact_scratch.h)
-
-/// A wrench that has started: its load (point in B) and the first step it no longer acts in.
-struct ActiveWrench {
-  int body = -1;  ///< moving index
-  std::uint64_t end_step = kUntilCleared;
-  dynamics::AppliedLoad load;
-};
 
 /// A timed effort that has started on one joint of a tree.
 struct ActiveEffort {
@@ -82,6 +83,16 @@ struct TreeData {
   double contact_power_start = 0.0;   ///< W, of the inputs before the kick
 };
 
+/// Inputs refused when due to start, past a bound on active wrenches (WorldConfig): counted,
+/// and the last one described, without allocating in the step.
+struct StartRefusals {
+  std::uint64_t count = 0;
+  QueuedInput input;       ///< the last one
+  std::uint64_t step = 0;  ///< the step it was due at
+  bool per_body = false;   ///< the bound per body (per tree) was reached, else the total one
+  std::size_t active = 0;  ///< what was active then, counted against that bound
+};
+
 struct Data {
   std::uint64_t step_count = 0;  ///< steps done; t = step_count·dt (never goes back)
 
@@ -90,9 +101,16 @@ struct Data {
   /// Moving indices whose loads_dirty is set (capacity: one slot per body, so no allocation).
   std::vector<int> dirty_list;
 
-  InputQueue queue;                           ///< validated inputs waiting for their step
-  std::vector<ActiveWrench> active;           ///< started wrenches, in the order they started
-  std::uint64_t next_expiry = kUntilCleared;  ///< smallest end_step in `active`
+  InputQueue queue;                 ///< validated inputs waiting for their step
+  std::size_t active_wrenches = 0;  ///< started wrenches of every body (MovingBodyData::wrenches)
+  /// When the started wrenches of finite duration end: a min-heap on end_step, one entry per
+  /// wrench, so that ending them costs O(log n) each (wrench_schedule.cc).
+  struct Expiry {
+    std::uint64_t end_step;
+    int body;  ///< moving index
+  };
+  std::vector<Expiry> expiries;
+  StartRefusals start_refusals;  ///< wrenches and timed efforts refused at start
 
   /// The contacts of the last step, with their impulses (stage_contacts.cc).
   std::vector<Contact> contacts;

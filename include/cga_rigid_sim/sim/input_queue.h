@@ -1,10 +1,15 @@
-// InputQueue: validated wrenches and impulses waiting for the step they belong to.
+// InputQueue: validated wrenches, impulses and joint efforts waiting for the step they belong to.
 //
-// Inputs are kept ordered by (step, arrival number), so the order in which they take effect
+// Inputs come out ordered by (step, arrival number), so the order in which they take effect
 // depends only on their stamps and, within one step, on the order they arrived — never on
 // wall time or addresses. Replaying the same inputs in the same order gives the same states
-// bit for bit. Pushing may allocate (it runs when an input arrives); taking the due inputs
-// (popDue) never does, so World::step() stays allocation-free.
+// bit for bit.
+//
+// The queue is a binary min-heap on (step, arrival): pushing and popping cost O(log n) moves,
+// whatever the stamps (a sorted array paid a shift of the whole queue for every input stamped
+// before the last one). Pushing may allocate (it runs when an input arrives); taking the due
+// inputs (popDue) never does, so World::step() stays allocation-free. The queue also counts its
+// inputs per body and per tree, so the bounds on waiting inputs (WorldConfig) cost O(1).
 #pragma once
 
 #include <Eigen/Core>
@@ -34,7 +39,7 @@ struct QueuedInput {
   Kind kind = Kind::kWrench;
   std::uint64_t step = 0;     ///< the step it takes effect at (start of the step)
   std::uint64_t arrival = 0;  ///< arrival number (tie-break within a step)
-  int body = -1;              ///< moving-body index in the World
+  int body = -1;              ///< moving-body index in the World (wrenches, impulses)
   dynamics::Axes axes = dynamics::Axes::kWorld;
   cga::Force F;  ///< force (N) or linear impulse (N s), in `axes`
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< m: B (kBody) or world (kWorld)
@@ -47,24 +52,25 @@ struct QueuedInput {
 
 class InputQueue {
  public:
-  /// Queues an input; its arrival number is assigned here (the next in sequence).
+  /// Queues an input; its arrival number is assigned here (the next in sequence). O(log n).
   void push(QueuedInput in);
   /// The next input due at or before `step`, in (step, arrival) order, or nullptr. The pointer
-  /// stays valid until the next push/clear/remove. Never allocates.
-  const QueuedInput* popDue(std::uint64_t step) {
-    if (!hasDue(step)) return nullptr;
-    return &items_[head_++];
-  }
+  /// stays valid until the next popDue/push/clear/remove. O(log n); never allocates.
+  const QueuedInput* popDue(std::uint64_t step);
   /// Whether an input is due at or before `step`.
-  bool hasDue(std::uint64_t step) const {
-    return head_ != items_.size() && items_[head_].step <= step;
-  }
+  bool hasDue(std::uint64_t step) const { return !heap_.empty() && heap_.front().step <= step; }
 
   /// Inputs waiting (not yet popped).
-  std::size_t size() const { return items_.size() - head_; }
-  bool empty() const { return size() == 0; }
-  /// Waiting wrenches for one body (to reserve room for them before they become active).
-  std::size_t wrenchCount(int body) const;
+  std::size_t size() const { return heap_.size(); }
+  bool empty() const { return heap_.empty(); }
+  /// Waiting inputs of one moving body (wrenches and impulses), of one tree (joint efforts).
+  std::size_t bodyCount(int body) const { return countAt(body_inputs_, body); }
+  std::size_t treeCount(int tree) const { return countAt(tree_inputs_, tree); }
+  /// Waiting wrenches of one body and in all, waiting timed efforts of one tree (to reserve
+  /// room for them before they start).
+  std::size_t wrenchCount(int body) const { return countAt(body_wrenches_, body); }
+  std::size_t wrenchCount() const { return wrenches_; }
+  std::size_t timedEffortCount(int tree) const { return countAt(tree_timed_, tree); }
 
   /// Drops everything waiting. The arrival counter keeps running.
   void clear();
@@ -75,10 +81,19 @@ class InputQueue {
   void removeBody(int body);
 
  private:
-  void compact();
-  std::vector<QueuedInput> items_;  ///< sorted by (step, arrival); [0, head_) already popped
-  std::size_t head_ = 0;
+  static std::size_t countAt(const std::vector<std::size_t>& v, int i) {
+    return i >= 0 && static_cast<std::size_t>(i) < v.size() ? v[i] : 0;
+  }
+  void count(const QueuedInput& q, int sign);
+  template <class Drop>
+  void removeIf(Drop drop);
+
+  std::vector<QueuedInput> heap_;  ///< min-heap on (step, arrival)
+  QueuedInput popped_;             ///< the last input popDue handed out
   std::uint64_t next_arrival_ = 0;
+  std::vector<std::size_t> body_inputs_, body_wrenches_;  ///< per moving body
+  std::vector<std::size_t> tree_inputs_, tree_timed_;     ///< per tree
+  std::size_t wrenches_ = 0;
 };
 
 }  // namespace sim

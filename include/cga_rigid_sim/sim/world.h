@@ -55,6 +55,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,14 @@ class World {
   /// Wrenches acting in the next step (already started) and inputs waiting for their step.
   std::size_t activeWrenchCount() const;
   std::size_t queuedInputCount() const;
+
+  /// Wrenches and timed joint efforts refused when they were due to start, because their body
+  /// (tree) or the world had as many active as ~max_active_wrenches[_per_body] allow (counted
+  /// since creation, reset included), and the reason of the last one: "apply_wrench.body: body
+  /// 'box' already has 64 active wrenches at step 12 (max_active_wrenches_per_body = 64)",
+  /// or for a timed effort "apply_joint_effort.joint: …".
+  std::uint64_t startRefusalCount() const;
+  std::optional<Error> lastStartRefusal() const;
 
  private:
   World();

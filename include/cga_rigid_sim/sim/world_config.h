@@ -1,6 +1,7 @@
 // WorldConfig: the settings a World is created with (the node's parameters ~dt, ~integrator,
 // ~world_frame, ~max_force, ~max_impulse, ~relax_inertia, ~threads, ~ground_plane,
-// ~contact_mu, ~contact_restitution), and the fixed limits on inputs.
+// ~contact_mu, ~contact_restitution, the bounds ~max_queued_inputs[_per_body] and
+// ~max_active_wrenches[_per_body]), and the fixed limits on inputs.
 #pragma once
 
 #include <optional>
@@ -47,6 +48,21 @@ struct WorldConfig {
   /// ~contact_restitution): μ finite and ≥ 0, e in [0, 1].
   double contact_mu = 0.5;
   double contact_restitution = 0.0;
+
+  /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
+  /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all
+  /// and per moving body (wrenches and impulses) or per tree (joint efforts): past them an
+  /// input is refused when it arrives. 136 bytes each, so the default costs at most 1.4 MB
+  /// (twice that reserved, at worst); 1000 per body hold a 1 s trajectory at 1 kHz ahead.
+  int max_queued_inputs = 10000;
+  int max_queued_inputs_per_body = 1000;
+  /// Wrenches and timed joint efforts acting at once, in all and per moving body (per tree for
+  /// timed efforts): past them a wrench is refused when it is due to start (so a replay of the
+  /// same stamped inputs refuses the same ones). Each active wrench is evaluated at every
+  /// (sub)step of its body's integrator, ~0.15 µs each: 64 on a body cost ~10 µs a step, 1000
+  /// in all ~0.2 ms, a fifth of a real-time step at dt = 1 ms (README "Limits and bounds").
+  int max_active_wrenches = 1000;
+  int max_active_wrenches_per_body = 64;
 };
 
 }  // namespace sim
