@@ -187,6 +187,10 @@ void checkFinite(const sim::World& world, const std::string& after) {
   for (const sim::JointStateReport& j : world.jointStates())
     if (!std::isfinite(j.position) || !std::isfinite(j.velocity) || !std::isfinite(j.effort))
       fuzz::fail("joint '" + j.name + "' not finite after " + after);
+  for (const sim::MomentumReport& m : world.momentum())
+    if (!m.linear.allFinite() || !m.angular.allFinite() || !std::isfinite(m.kinetic_energy) ||
+        !std::isfinite(m.potential_energy))
+      fuzz::fail("momentum of '" + m.body + "' not finite after " + after);
 }
 
 }  // namespace
@@ -217,6 +221,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   sim::World& world = **created;
+  if (trace())
+    std::fprintf(stderr, "scene %s, integrator %s\n", kScenes[scene_index],
+                 config.integrator.c_str());
 
   // Names the decoder picks from: bodies, links (including the world frame), joints.
   std::vector<std::string> bodies, frames, joints;
