@@ -14,7 +14,8 @@
 # test/ros/, test/scene/bad_urdf/; meshes; config/*.yaml as flow text) and fuzz/corpus/<target>/;
 # the inputs libFuzzer finds stay in build/fuzz/corpus/<target>/ for the next run. A finding is
 # written to build/fuzz/artifacts/<target>/ (crash-…, leak-…, timeout-…); the run's log is
-# build/fuzz/logs/<target>.log and one summary line per target is printed at the end.
+# build/fuzz/logs/<target>-<N>s.log or -<N>runs.log, and one summary line per target is printed
+# at the end.
 # Exit status non-zero if a target failed or could not be built.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -33,7 +34,7 @@ while [[ $# -gt 0 ]]; do
     --target) targets+=("$2"); shift 2 ;;
     --junit) junit="$2"; shift 2 ;;
     --build-only) build_only=true; shift ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -117,7 +118,7 @@ for t in "${targets[@]}"; do
   seeds="$out/seeds/$t"
   corpus="$out/corpus/$t"
   artifacts="$out/artifacts/$t"
-  log="$out/logs/$t.log"
+  if [[ -n $runs ]]; then log="$out/logs/$t-${runs}runs.log"; else log="$out/logs/$t-${seconds}s.log"; fi
   rm -rf "$seeds"
   mkdir -p "$seeds" "$corpus" "$artifacts" "$out/logs"
   "seed_$t" "$seeds"
