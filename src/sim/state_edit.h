@@ -17,7 +17,7 @@ namespace sim {
 /// kMaxPointDistance (1e9 m) of the world origin, as points of application are; speeds up to
 /// 1e9 m/s (three times the speed of light) and 1e9 rad/s. Far beyond anything physical, they
 /// keep the body's state, momentum and energy, and a step's products of them, far from
-/// overflow: a velocity of 1e300 was accepted before and made the state NaN on the spot.
+/// overflow: an angular velocity of 1.8e308 rad/s was accepted before and made the state NaN.
 constexpr double kMaxSpeed = 1e9;         ///< m/s
 constexpr double kMaxAngularSpeed = 1e9;  ///< rad/s
 
