@@ -185,6 +185,8 @@ bool finite(const sim::World& world) {
     if (!b.state.allFinite()) return false;
   for (const sim::JointStateReport& j : world.jointStates())
     if (!std::isfinite(j.position) || !std::isfinite(j.velocity)) return false;
+  for (const sim::MomentumReport& m : world.momentum())
+    if (!std::isfinite(m.kinetic_energy) || !std::isfinite(m.potential_energy)) return false;
   return true;
 }
 
