@@ -63,6 +63,16 @@ else
     libfcl-dev)  # FCL 0.7: collision detection for contacts
 fi
 
+# The fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the ASan/UBSan/LSan runtimes. The
+# runtimes are a package of their own since LLVM 14 (libclang-rt-<N>-dev); Ubuntu 20.04's clang-10
+# has them in libclang-common-10-dev.
+codename=$(. /etc/os-release 2>/dev/null && echo "${VERSION_CODENAME:-}" || true)
+case "$codename" in
+  focal) packages+=(clang-10 libclang-common-10-dev) ;;
+  bookworm) packages+=(clang libclang-rt-14-dev) ;;
+  *) packages+=(clang libclang-rt-dev) ;;
+esac
+
 peer_packages=(libmujoco-dev libode-dev libbullet-dev libdart-dev libsimbody-dev gnuplot-nox)
 
 # One `dpkg -s` for all packages; a package counts as present when its status is installed.

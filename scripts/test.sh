@@ -4,10 +4,11 @@
 #   scripts/test.sh [extra cmake args, e.g. -DCGA_RIGID_SIM_ASAN=ON]
 #
 # Each registered test target (gtest binary test_<layer>, rostest test/ros/<name>.test) runs
-# with a time limit (CGA_RIGID_SIM_TEST_TIMEOUT seconds, default 600). JUnit results go to
-# build/ws/build/test_results/; the last line printed is "N passed, N failed" (test cases).
-# Exit status is non-zero if a test failed, crashed, timed out or produced no result, or if
-# no test ran at all.
+# with a time limit (CGA_RIGID_SIM_TEST_TIMEOUT seconds, default 600); then each fuzz target of
+# fuzz/ runs for CGA_RIGID_SIM_FUZZ_SECONDS (default 45; scripts/fuzz.sh, README "Fuzzing").
+# JUnit results go to build/ws/build/test_results/; the last line printed is "N passed,
+# N failed" (test cases). Exit status is non-zero if a test failed, crashed, timed out or
+# produced no result, or if no test ran at all.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$(pwd)
@@ -77,5 +78,19 @@ for target in "${targets[@]}"; do
 done
 end=$(date +%s)
 echo "test.sh: ${#targets[@]} test targets ran in $((end - start)) s"
+
+# The fuzz targets (README "Fuzzing"), a short run each: one test case per target, passed when
+# the run found no crash, leak or sanitizer report. 45 s each keeps the fuzz build (about 3 min
+# on 2 cores from a cold cache) and the four runs within 6 minutes. CGA_RIGID_SIM_FUZZ_SECONDS=0
+# skips them.
+fuzz_seconds="${CGA_RIGID_SIM_FUZZ_SECONDS:-45}"
+if [[ $fuzz_seconds != 0 ]]; then
+  echo "test.sh: ---- fuzz targets, $fuzz_seconds s each"
+  rc=0
+  bash scripts/fuzz.sh --seconds "$fuzz_seconds" --junit "$results/cga_rigid_sim" || rc=$?
+  if [[ $rc -ne 0 ]] && ! compgen -G "$results/cga_rigid_sim/fuzz-*.xml" >/dev/null; then
+    write_failure fuzz "scripts/fuzz.sh exited with status $rc"
+  fi
+fi
 
 exec /usr/bin/python3 "$root/scripts/summarize_tests.py" "$results"

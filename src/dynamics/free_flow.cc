@@ -205,8 +205,10 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
   c.Q = r;
   c.psi = 0.0;
   // At rest; or not a state at all (non-finite w: left as it is for the caller's validation,
-  // rather than fed to iterations that would never converge).
-  if (w.isZero(0.0) || !w.allFinite()) {
+  // rather than fed to iterations that would never converge); or a spin so slow that |L|²
+  // underflows to 0 (|w| below ~1e-154 rad/s, e.g. after a couple of 1e-230 N m): the amplitudes
+  // below would be 0/0, and it turns by less than 1e-135 rad in the age of the universe.
+  if (w.isZero(0.0) || !w.allFinite() || J.cwiseProduct(w).squaredNorm() == 0.0) {
     c.path = Path::kStill;
     return;
   }

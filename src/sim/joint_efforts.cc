@@ -90,6 +90,7 @@ Result<bool> queueTimedJointEffort(const Model& model, Data& data,
                               model.config.max_force, "max_force", "N m (or N)"))
     return *e;
   if (auto e = checkFinite(what, "duration", in.duration)) return *e;
+  if (auto e = checkFinite(what, "start_time", in.start_time)) return *e;
   auto k = stepOf(model, data, what, in.start_time);
   if (!k) return k.failure();
   std::uint64_t steps = 1;  // the duration rules of wrenches (world.h)

@@ -3,6 +3,7 @@
 #include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "input_rules.h"
+#include "state_edit.h"
 #include "wrench_schedule.h"
 
 namespace cga_rigid_sim {
@@ -67,9 +68,7 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
     return Error(what, "name", "'" + name + "' is the name of the world frame");
   if (model.body_by_name.count(name))
     return Error(what, "name", "body '" + name + "' already exists");
-  if (auto e = checkPose(what, pose_root)) return *e;
-  if (auto e = checkFinite(what, "linear_velocity", v_W)) return *e;
-  if (auto e = checkFinite(what, "angular_velocity", w_W)) return *e;
+  if (auto e = checkStateInput(what, pose_root, v_W, w_W)) return *e;
   std::vector<std::string> warnings;
   auto loaded = loadSpawnedBody(model, name, urdf, warnings);
   if (!loaded) return loaded.failure();

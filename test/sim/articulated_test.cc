@@ -159,6 +159,14 @@ TEST(Articulated, BadEffortsAreRefusedByNameWithNothingApplied) {
   r = w->applyJointEffort(t);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error(), "apply_joint_effort.effort: not finite (inf)");
+  // A NaN start time reached the stamp's conversion to a step number (undefined behaviour,
+  // found by fuzz/fuzz_world_inputs.cc under UBSan); it is refused like every other number.
+  t.effort = 1.0;
+  t.start_time = std::nan("");
+  r = w->applyJointEffort(t);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(), "apply_joint_effort.start_time: not finite (nan)");
+  EXPECT_EQ(w->queuedInputCount(), 0u);
 }
 
 TEST(Articulated, TimedEffortActsForItsDurationOnly) {

@@ -159,6 +159,16 @@ TEST(WorldSpawn, SpawnRefusesClashesAndBadInput) {
       w->spawnUrdf("crate4", kCrateUrdf, somePose(), Eigen::Vector3d(0, std::nan(""), 0), kZero);
   ASSERT_FALSE(v.ok());
   EXPECT_EQ(v.error(), "spawn_urdf.linear_velocity.y: not finite (nan)");
+  // The bounds of setBodyState (src/sim/state_edit.h: speeds up to 1e9 m/s and rad/s), which
+  // keep a finite state finite.
+  auto fast = w->spawnUrdf("crate4", kCrateUrdf, somePose(), kZero, Eigen::Vector3d(0, 0, 1e300));
+  ASSERT_FALSE(fast.ok());
+  EXPECT_EQ(fast.error().rfind("spawn_urdf.angular_velocity: |angular_velocity| = 1e+300 rad/s "
+                               "exceeds the largest angular speed",
+                               0),
+            0u)
+      << fast.error();
+  EXPECT_EQ(w->scene().bodies.size(), bodies);
 }
 
 // Truth: deleteBody removes a body with its queued and active inputs; the other bodies keep

@@ -170,6 +170,25 @@ std::vector<BadCase> badCases() {
       [=](sim::World& w) { return w.setBodyState("box", I, Eigen::Vector3d(0, 0, kInf), z); });
   set("set_body_state.angular_velocity.x: not finite (nan)",
       [=](sim::World& w) { return w.setBodyState("box", I, z, Eigen::Vector3d(kNaN, 0, 0)); });
+  // Finite but overflowing: found by fuzz/fuzz_world_inputs.cc (an angular velocity of
+  // (1.56e147, DBL_MAX, 119) was accepted and made the state NaN on the spot). The bounds are
+  // kMaxPointDistance and the largest speeds of src/sim/state_edit.h, 1e9 each.
+  set("set_body_state.angular_velocity: |angular_velocity| = 1.79769313486232e+308 rad/s "
+      "exceeds the largest angular speed = 1000000000 rad/s",
+      [=](sim::World& w) {
+        const double huge = std::numeric_limits<double>::max();
+        return w.setBodyState("box", I, z, Eigen::Vector3d(1.56e147, huge, 119));
+      });
+  set("set_body_state.linear_velocity: |linear_velocity| = 2000000000 m/s exceeds the largest "
+      "speed = 1000000000 m/s",
+      [=](sim::World& w) { return w.setBodyState("box", I, Eigen::Vector3d(0, 2e9, 0), z); });
+  set("set_body_state.pose.translation: |pose.translation| = 1000000000000 m exceeds the largest "
+      "distance = 1000000000 m",
+      [=](sim::World& w) {
+        Eigen::Isometry3d p = I;
+        p.translation() = Eigen::Vector3d(0, 0, 1e12);
+        return w.setBodyState("box", p, z, z);
+      });
   set("delete_body.body: unknown body 'nope'", [](sim::World& w) { return w.deleteBody("nope"); });
   set("delete_body.body: unknown body 'lid'", [](sim::World& w) { return w.deleteBody("lid"); });
   return c;

@@ -114,9 +114,10 @@ class World {
   /// Sets pose (root link frame, world) and velocities (CoM velocity and angular velocity,
   /// world axes) of a moving body, effective before the next step:
   /// M_WB = M_WL0 M_BL0⁻¹, Ω_B with body-axis coefficients (R̃ w, R̃ v/λ) (doc/conventions.md
-  /// (E6)). Refuses non-finite numbers, a rotation
-  /// that is not proper, unknown and static bodies. The body's integrator is reset; its
-  /// world-frame wrenches keep their material points.
+  /// (E6)). Refuses non-finite numbers, a rotation that is not proper, a root link origin
+  /// farther than kMaxPointDistance (1e9 m) from the world origin, speeds above 1e9 m/s or
+  /// 1e9 rad/s (larger ones overflowed the state), unknown and static bodies. The body's
+  /// integrator is reset; its world-frame wrenches keep their material points.
   Result<bool> setBodyState(const std::string& body, const Eigen::Isometry3d& pose_root,
                             const Eigen::Vector3d& linear_velocity_W,
                             const Eigen::Vector3d& angular_velocity_W);
