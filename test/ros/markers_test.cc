@@ -28,8 +28,8 @@ const Marker* find(const visualization_msgs::MarkerArray& a, const std::string& 
   return nullptr;
 }
 
-// Two moving bodies with L, ω and a "total" whose L is larger than either (it must be ignored
-// when L_ref is chosen: it is not a body).
+// Two moving bodies with L, ω, a tree entry and a "total" whose L are larger than either (they
+// must be ignored when L_ref is chosen: they are not bodies).
 MarkerInputs twoBodies() {
   MarkerInputs in;
   sim::BodyStateReport a;
@@ -48,9 +48,15 @@ MarkerInputs twoBodies() {
   mb.body = "rod";
   mb.angular = {0.0, 0.6, 0.0};
   sim::MomentumReport total;
+  total.kind = sim::MomentumReport::Kind::kTotal;
   total.body = sim::kTotalName;
   total.angular = {0.0, 0.0, 50.0};
-  in.momentum = {ma, mb, total};
+  // A tree's entry sums its bodies: like the total it draws no arrow and sets no reference.
+  sim::MomentumReport tree;
+  tree.kind = sim::MomentumReport::Kind::kTree;
+  tree.body = std::string(sim::kTreePrefix) + "racket";
+  tree.angular = {0.0, 0.0, 40.0};
+  in.momentum = {ma, mb, tree, total};
   in.dt = 0.001;
   return in;
 }
@@ -148,7 +154,7 @@ TEST(Markers, BodyArrowsAtTheCentreOfMassAlongLAndOmega) {
   EXPECT_LT((toEigen3(w_rod->points[1]) - (in.bodies[1].com + Eigen::Vector3d(0, 0, 0.5))).norm(),
             kTol);
 
-  // Exactly: DELETEALL + 2 arrows per body, no contacts, nothing for "total".
+  // Exactly: DELETEALL + 2 arrows per body, no contacts, nothing for the tree or "total".
   EXPECT_EQ(array.markers.size(), 5u);
 }
 
