@@ -34,6 +34,11 @@ constexpr int kMaxIterations = 40;
 // Stagnation at round-off ends far below it (≈ 1e-13 for ill-conditioned chains).
 constexpr double kConverged = 1e-9;
 constexpr int kMaxHalvings = 10;
+// At most this many substep attempts per step, halvings included: a state no step size can
+// resolve (joints whipping at thousands of rad/s after an extreme impulse) costs a bounded
+// ~kMaxAttemptsPerStep·kMaxIterations iterations per step instead of 2^(kMaxHalvings+1) attempts
+// (the libFuzzer world-inputs target found such a stall, fuzz/findings/).
+constexpr int kMaxAttemptsPerStep = 64;
 
 class Midpoint final : public TreeIntegrator {
  public:
@@ -45,6 +50,7 @@ class Midpoint final : public TreeIntegrator {
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
     iterations_ = 0;
+    attempts_ = 0;
     if (!fourth_order_) return robustSubstep(tree, loads, h, state, 0);
     // Yoshida: h γ1, h γ2, h γ1 with γ1 = 1/(2 − 2^{1/3}), γ2 = 1 − 2 γ1.
     const double g1 = 1.0 / (2.0 - std::cbrt(2.0)), g2 = 1.0 - 2.0 * g1;
@@ -82,7 +88,8 @@ class Midpoint final : public TreeIntegrator {
 
   // A step the iteration cannot solve (it stops converging when h times the tree's fastest
   // rate nears 1: a whipping chain at a large dt) is done as two steps of h/2, recursively down
-  // to h/2^kMaxHalvings. Two midpoint steps are again a symmetric, symplectic step, so the
+  // to h/2^kMaxHalvings and within kMaxAttemptsPerStep attempts (past either, the last attempt
+  // stands). Two midpoint steps are again a symmetric, symplectic step, so the
   // method keeps its properties; only the cost grows.
   void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
                      TreeState& state, int depth) {
@@ -91,7 +98,9 @@ class Midpoint final : public TreeIntegrator {
     if (static_cast<int>(saved_.size()) <= depth) saved_.resize(depth + 1);
     Saved& saved = saved_[depth];
     save(state, saved);
-    if (substep(tree, loads, h, state) || depth >= kMaxHalvings) {
+    ++attempts_;
+    if (substep(tree, loads, h, state) || depth >= kMaxHalvings ||
+        attempts_ >= kMaxAttemptsPerStep) {
       if (!slots_sized_) {  // every slot sized once the first step has sized the members
         saved_.resize(kMaxHalvings + 1);
         for (Saved& slot : saved_) save(state, slot);
@@ -290,6 +299,7 @@ class Midpoint final : public TreeIntegrator {
   double last_h_ = 0.0;
   int iterations_ = 0;
   int halvings_ = 0;
+  int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
   std::vector<Saved> saved_;
   bool slots_sized_ = false;
   double T_ = 0.0;             // kinetic energy of the state the integrator produced

@@ -38,11 +38,12 @@ inline std::optional<Error> checkFinite(const std::string& input, const std::str
   return std::nullopt;
 }
 
-/// |v| ≤ limit, or "|<field>| = … <unit> exceeds <limit_name> = … <unit>".
+/// |v| ≤ limit, or "|<field>| = … <unit> exceeds <limit_name> = … <unit>". stableNorm: the
+/// norm of a finite vector is reported finite (norm() squares, and 1e200 would read "inf").
 inline std::optional<Error> checkMagnitude(const std::string& input, const std::string& field,
                                            const Eigen::Vector3d& v, double limit,
                                            const char* limit_name, const char* unit) {
-  const double m = v.norm();
+  const double m = v.stableNorm();
   if (m > limit)
     return Error(input, field,
                  "|" + field + "| = " + num(m) + " " + unit + " exceeds " + limit_name + " = " +

@@ -8,35 +8,18 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-namespace {
-
-// |v| ≤ limit, or "|<field>| = … <unit> exceeds <limit_name> = … <unit>". stableNorm: the
-// norm of a finite vector is reported finite (norm() squares, and 1e300 would read "inf").
-std::optional<Error> checkBound(const std::string& input, const std::string& field,
-                                const Eigen::Vector3d& v, double limit, const char* limit_name,
-                                const char* unit) {
-  const double m = v.stableNorm();
-  if (m > limit)
-    return Error(input, field,
-                 "|" + field + "| = " + num(m) + " " + unit + " exceeds " + limit_name + " = " +
-                     num(limit) + " " + unit);
-  return std::nullopt;
-}
-
-}  // namespace
-
 std::optional<Error> checkStateInput(const std::string& input, const Eigen::Isometry3d& pose_root,
                                      const Eigen::Vector3d& v_W, const Eigen::Vector3d& w_W) {
   if (auto e = checkPose(input, pose_root)) return e;
   if (auto e = checkFinite(input, "linear_velocity", v_W)) return e;
   if (auto e = checkFinite(input, "angular_velocity", w_W)) return e;
-  if (auto e = checkBound(input, "pose.translation", pose_root.translation(), kMaxPointDistance,
-                          "the largest distance", "m"))
+  if (auto e = checkMagnitude(input, "pose.translation", pose_root.translation(), kMaxPointDistance,
+                              "the largest distance", "m"))
     return e;
-  if (auto e = checkBound(input, "linear_velocity", v_W, kMaxSpeed, "the largest speed", "m/s"))
+  if (auto e = checkMagnitude(input, "linear_velocity", v_W, kMaxSpeed, "the largest speed", "m/s"))
     return e;
-  return checkBound(input, "angular_velocity", w_W, kMaxAngularSpeed, "the largest angular speed",
-                    "rad/s");
+  return checkMagnitude(input, "angular_velocity", w_W, kMaxAngularSpeed,
+                        "the largest angular speed", "rad/s");
 }
 
 Result<bool> setBodyState(const Model& model, Data& data, const std::string& body,
