@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "cga_rigid_sim/dynamics/free_flow.h"
+#include "sin_cos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -113,8 +114,9 @@ inline void buildAgm(double kp2, FreeFlowCache& c) {
 }
 
 inline void jacobiSnCnDn(double u, const FreeFlowCache& c, double& sn, double& cn, double& dn) {
-  const double v = u * c.agm_limit;
-  double s = std::sin(v), co = std::cos(v), d = 1.0;
+  const double v = u * c.agm_limit;  // |v| ≤ K · agm = π/2
+  double s, co, d = 1.0;
+  sinCosReduced(v, s, co);
   if (s != 0.0) {
     double ratio = co / s;  // cot v
     double q = c.agm_limit * ratio;

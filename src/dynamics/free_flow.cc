@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "elliptic.h"
+#include "sin_cos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -17,16 +18,32 @@ using elliptic::carlsonRJ;
 using elliptic::jacobiSnCnDn;
 
 constexpr double kPi = 3.141592653589793;
+// Elliptic path: steps per run of the addition theorems, the first of them evaluated from the
+// anchor (point 7).
+constexpr int kRunLength = 32;
+// Phase steps δ = ω_p h up to this size advance sn, cn, dn by their addition theorems, and any
+// step when k'² is at least kWellConditionedKp2; other steps evaluate them from the anchor
+// (point 7).
+constexpr double kSmallPhaseStep = 0.25;
+constexpr double kWellConditionedKp2 = 0.1;
 
 // x reduced to [−π, π] by a whole number of turns. 2π is split into the double nearest to it
 // and the remainder, so the reduction itself adds no systematic error per turn (a plain
-// remainder by fl(2π) would lose 2.4e-16 rad per turn removed).
+// remainder by fl(2π) would lose 2.4e-16 rad per turn removed). The number of turns comes from
+// a product with 1/(2π) (no division on the hot path); where that rounds to the other side of
+// a half turn the result is ±π within an ulp, the same rotation.
 inline double reduceAngle(double x) {
   constexpr double kTwoPiHi = 6.283185307179586;
   constexpr double kTwoPiLo = 2.4492935982947064e-16;
+  constexpr double kInvTwoPi = 0.15915494309189535;
   if (std::abs(x) <= kPi) return x;
-  const double m = std::nearbyint(x / (kTwoPiHi + kTwoPiLo));
+  const double m = std::nearbyint(x * kInvTwoPi);
   return std::fma(-m, kTwoPiHi, x) - m * kTwoPiLo;
+}
+
+// Whether the whole number m is odd (every double beyond 2⁵³ is even).
+inline bool isOdd(double m) {
+  return std::abs(m) < 9007199254740992.0 && (static_cast<long long>(m) & 1) != 0;
 }
 
 // The rotation by ψ about the unit axis u: (cos ψ/2, sin ψ/2 u).
@@ -44,24 +61,29 @@ inline Eigen::Quaterniond swing(const Eigen::Vector3d& u, const Eigen::Vector3d&
   return p;
 }
 
-// The periodic part g of the angle about L (see the derivation above exactFreeFlow), for a
-// phase with elliptic functions sn, cn ≥ 0, dn (reduced phase: |am τ| ≤ π/2):
-//   g = coef_pi (ν/3) sn³ R_J(cn², dn², 1, 1 − ν sn²) + coef_atan Φ,
-// ν the characteristic in use, Φ = atan2(B_b sn, B_a cn) for n and, for N, the angle
+// The angle term of g (see the derivation above exactFreeFlow): Θ = atan2(B_b sn, B_a cn) for
+// the characteristic n (continued across its branch cuts by the caller), and for N the periodic
 // Φ = atan2(B_a B_b sn cn (ℓ − B_c dn), B_a² B_c dn cn² + B_b² ℓ sn²) with
 // ℓ − B_c dn = (B_a² + k² B_c² sn²)/(ℓ + B_c dn) (no cancellation).
-inline double periodicPsi(const FreeFlowCache& c, double sn, double cn, double dn) {
-  double g = 0.0;
-  if (sn != 0.0) {
-    const double s2 = sn * sn;
-    g = c.coef_pi * (c.nchar / 3.0) * s2 * sn *
-        carlsonRJ(cn * cn, dn * dn, 1.0, 1.0 - c.nchar * s2);
-  }
-  if (!c.dual) return g + c.coef_atan * std::atan2(c.Bb * sn, c.Ba * cn);
+inline double angleTerm(const FreeFlowCache& c, double sn, double cn, double dn) {
+  if (!c.dual) return std::atan2(c.Bb * sn, c.Ba * cn);
+  // Φ's denominator is positive (dn > 0, and cn, sn never vanish together): atan of the ratio.
   const double ell_minus = (c.Ba * c.Ba + c.G * sn * sn) / (c.ell + c.Bc * dn);
-  return g + c.coef_atan *
-                 std::atan2(c.Ba * c.Bb * sn * cn * ell_minus,
-                            c.Ba * c.Ba * c.Bc * dn * cn * cn + c.Bb * c.Bb * c.ell * sn * sn);
+  return std::atan((c.Ba * c.Bb * sn * cn * ell_minus) /
+                   (c.Ba * c.Ba * c.Bc * dn * cn * cn + c.Bb * c.Bb * c.ell * sn * sn));
+}
+
+// Π(ν; am τ) − τ = (ν/3) sn³ R_J(cn², dn², 1, 1 − ν sn²) for a reduced phase (|am τ| ≤ π/2).
+inline double thirdKindGain(const FreeFlowCache& c, double sn, double cn, double dn) {
+  if (sn == 0.0) return 0.0;
+  const double s2 = sn * sn;
+  return (c.nchar / 3.0) * s2 * sn * carlsonRJ(cn * cn, dn * dn, 1.0, 1.0 - c.nchar * s2);
+}
+
+// The periodic part g of the angle about L for a reduced phase (sn, cn ≥ 0, dn):
+//   g = coef_pi (Π(ν; am τ) − τ) + coef_atan (Θ or Φ).
+inline double periodicPsi(const FreeFlowCache& c, double sn, double cn, double dn) {
+  return c.coef_pi * thirdKindGain(c, sn, cn, dn) + c.coef_atan * angleTerm(c, sn, cn, dn);
 }
 
 // The same on the separatrix (k = 1: sn = tanh τ, cn = dn = sech τ, no reduction), where
@@ -89,19 +111,68 @@ inline Eigen::Vector3d referenceAxis(const FreeFlowCache& c) {
   return u;
 }
 
-// R = Q Rot(u, ψ) P⁻¹, P the shortest rotation taking u to L̂_B.
+// R = Q Rot(u, ψ) P⁻¹, P the shortest rotation taking u = σ e_c to â = L̂_B. With
+// Rot(u, ψ) = (cos ψ/2, sin ψ/2 u) and P = (1 + σ a_c, σ e_c × â)/|…|, the product
+// Rot(u, ψ) P⁻¹ = (cos ψ/2 · P_0, −cos ψ/2 · P_v + sin ψ/2 (P_0 u + â_⊥/|…|)), â_⊥ the part of â
+// across e_c, is formed by components (u is a principal axis) and then carried by Q.
 inline Eigen::Quaterniond attitude(const FreeFlowCache& c, const Eigen::Vector3d& L_B) {
-  const Eigen::Vector3d u = referenceAxis(c);
-  return c.Q * axisAngle(u, c.psi) * swing(u, L_B / c.ell).conjugate();
+  const int i0 = c.ic, i1 = i0 == 2 ? 0 : i0 + 1, i2 = i0 == 0 ? 2 : i0 - 1;  // cyclic
+  const double inv_ell = 1.0 / c.ell;
+  const double a0 = L_B[i0] * inv_ell, a1 = L_B[i1] * inv_ell, a2 = L_B[i2] * inv_ell;
+  const double p0 = 1.0 + c.sigma * a0, p1 = -c.sigma * a2, p2 = c.sigma * a1;  // P unnormalised
+  const double inv_norm = 1.0 / std::sqrt(p0 * p0 + p1 * p1 + p2 * p2);
+  double sz, cz;
+  sinCosReduced(0.5 * c.psi, sz, cz);  // ψ ∈ [−π, π]
+  cz *= inv_norm;
+  sz *= inv_norm;
+  Eigen::Quaterniond zp;
+  zp.w() = cz * p0;
+  zp.vec()[i0] = sz * c.sigma * p0;
+  zp.vec()[i1] = sz * a1 - cz * p1;
+  zp.vec()[i2] = sz * a2 - cz * p2;
+  return c.Q * zp;
 }
 
 // ψ gained per half period 2K of τ beyond rate·t: Π(ν; φ + π) − F(φ + π) gains
 // 2(Π(ν) − K) = 2 (ν/3) R_J(0, k'², 1, 1 − ν); Θ gains π, the dual angle Φ nothing. Computed on
 // first use: a step under torque rebuilds the cache and rarely crosses a half period.
+double halfPeriodThirdKindGain(const FreeFlowCache& c) {
+  return 2.0 * (c.nchar / 3.0) * carlsonRJ(0.0, c.kp2, 1.0, 1.0 - c.nchar);
+}
+
 void computeHalfPeriodGain(FreeFlowCache& c) {
-  c.dpsi_half = 2.0 * c.coef_pi * (c.nchar / 3.0) * carlsonRJ(0.0, c.kp2, 1.0, 1.0 - c.nchar);
+  c.dpsi_half = c.coef_pi * halfPeriodThirdKindGain(c);
   if (!c.dual) c.dpsi_half += c.coef_atan * kPi;
   c.dpsi_half_ready = true;
+}
+
+// The constants of a step of h for the Π addition theorem (point 7): sn δ for δ = ω_p h, and
+// P(δ) = Π(ν; am δ) − δ, from δ = 2K m + r, r ∈ [−K, K] (sn changes sign m times, P gains m
+// half-period gains).
+void buildStepConstants(double h, FreeFlowCache& c) {
+  const double delta = c.omega_p * h;
+  const double m = std::nearbyint(delta / (2.0 * c.K));
+  const double r = std::fma(-2.0 * c.K, m, delta);
+  double sn, cn, dn;
+  jacobiSnCnDn(r, c, sn, cn, dn);
+  c.step_small = std::abs(delta) <= kSmallPhaseStep || c.kp2 >= kWellConditionedKp2;
+  c.step_cn = isOdd(m) ? -cn : cn;
+  c.step_dn = dn;
+  c.step_sn = isOdd(m) ? -sn : sn;
+  c.step_P = (m != 0.0 ? m * halfPeriodThirdKindGain(c) : 0.0) + thirdKindGain(c, sn, cn, dn);
+  // P(u + δ) = P(u) + P(δ) − A atan(B sn u sn δ sn(u + δ)/(1 − ν sn²(u + δ) + ν sn u sn δ
+  // cn(u + δ) dn(u + δ))), μ = −ν ≥ 0.
+  const double mu = -c.nchar;
+  const double k2 = 1.0 - c.kp2;
+  if (mu > 0.0) {
+    c.add_A = std::sqrt(mu / ((k2 + mu) * (1.0 + mu)));
+    c.add_B = std::sqrt(mu * (k2 + mu) * (1.0 + mu));
+  } else {
+    c.add_A = 0.0;
+    c.add_B = 0.0;
+  }
+  c.step_h = h;
+  c.step_ready = true;
 }
 
 // Builds the cache of an asymmetric body (J1 < J2 < J3) from its rotor r and body w ≠ 0.
@@ -178,6 +249,8 @@ void buildAsymmetric(const Eigen::Vector3d& J, const Eigen::Quaterniond& r,
     return;
   }
   c.path = Path::kElliptic;
+  c.step_ready = false;
+  c.run_steps = 0;
   buildAgm(c.kp2, c);
   c.K = kPi / (2.0 * c.agm_limit);
   if (c.dual) {
@@ -232,6 +305,102 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
       buildAsymmetric(J, r, w, c);
       return;
   }
+}
+
+// The phase at the elapsed time t from the anchor (point 4): τ = τ_a + ω_p t reduced by m half
+// periods to τ_r ∈ [−K, K], sn, cn, dn there (cn ≥ 0), and ρ; returns m.
+double phaseAt(FreeFlowCache& c, double t, double& sn, double& cn, double& dn) {
+  double tau = c.tau_a + c.omega_p * t;
+  double m = 0.0;
+  if (std::abs(tau) > c.K) {
+    m = std::nearbyint(tau / (2.0 * c.K));
+    tau = std::fma(-2.0 * c.K, m, tau);
+    if (!c.dpsi_half_ready) computeHalfPeriodGain(c);
+  }
+  c.rho = isOdd(m) ? -c.rho_a : c.rho_a;
+  c.tau = tau;
+  jacobiSnCnDn(tau, c, sn, cn, dn);
+  return m;
+}
+
+// The angle term continued over m half periods from the anchor: Φ (periodic), or Θ + mπ.
+inline double continuedAngle(const FreeFlowCache& c, double m, double sn, double cn, double dn) {
+  return c.dual ? angleTerm(c, sn, cn, dn) : m * kPi + angleTerm(c, sn, cn, dn);
+}
+
+// An evaluation from the anchor (point 4), which also starts a run of steps (point 7):
+// ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) − g_a, with R_J for Π.
+void evaluateFromAnchor(FreeFlowCache& c, double t, double& sn, double& cn, double& dn) {
+  const double m = phaseAt(c, t, sn, cn, dn);
+  const double g = periodicPsi(c, sn, cn, dn);
+  c.psi = reduceAngle(c.psi_a + (c.rate * t + m * c.dpsi_half + (g - c.g_a)));
+  c.g_tau = g;
+  c.run_sn = c.rho * c.rho_a * sn;
+  c.run_cn = c.rho * c.rho_a * cn;
+  c.run_dn = dn;
+  c.run_atan = 0.0;
+  c.run_angle0 = continuedAngle(c, m, sn, cn, dn);
+  c.run_angle = c.run_angle0;
+  c.run_psi0 = c.psi;
+  c.run_steps = 0;
+}
+
+// sn, cn, dn of τ + δ from those of τ by the addition theorems, for a small phase step δ, and the
+// angle term continued (Φ as it is; Θ by the turn of (B_a cn, B_b sn), which is small). Then
+// back onto sn² + cn² = 1 and dn = √(cn² + k'² sn²): the recurrence alone is unstable across
+// those curves (an error of ε grew 1.35× per step at δ ≈ 0.7). Along the curve the error only
+// adds up, and for a small step the theorems keep the relative precision of small cn and dn
+// (no cancellation), which is what fixes the phase near the separatrix, where the state spends
+// its time at cn, dn ≈ k' — there an absolute error ε would be a phase error ε/k'.
+inline void advanceSmall(FreeFlowCache& c) {
+  const double s = c.run_sn, co = c.run_cn, d = c.run_dn;
+  const double sd = c.step_sn, cd = c.step_cn, dd = c.step_dn;
+  double sn = s * cd * dd + sd * co * d;  // the common denominator cancels below
+  double cn = co * cd - s * sd * d * dd;
+  const double inv_r = 1.0 / std::sqrt(sn * sn + cn * cn);
+  sn *= inv_r;
+  cn *= inv_r;
+  const double dn = std::sqrt(cn * cn + c.kp2 * sn * sn);
+  if (c.dual) {
+    c.run_angle = angleTerm(c, sn, cn, dn);
+  } else {
+    c.run_angle +=
+        std::atan2(c.Ba * c.Bb * (co * sn - s * cn), c.Ba * c.Ba * co * cn + c.Bb * c.Bb * s * sn);
+  }
+  c.run_sn = sn;
+  c.run_cn = cn;
+  c.run_dn = dn;
+}
+
+// A step within a run (point 7). Π's part of ψ comes from the addition theorem instead of R_J:
+// P(τ) − P(τ_run) = j P(δ) − A Σ atan(…), summed over the run's steps, with sn, cn, dn signed as
+// continued from the anchor. For a small phase step δ, sn, cn, dn come from their own addition
+// theorems too (advanceSmall); otherwise from the anchor (phaseAt).
+void stepInRun(FreeFlowCache& c, double t, double h, double& sn, double& cn, double& dn) {
+  const double s_old = c.run_sn;
+  double angle;
+  if (c.step_small) {
+    advanceSmall(c);
+    c.rho = c.rho_a;  // sn, cn below are continued from the anchor, signs included
+    sn = c.run_sn;
+    cn = c.run_cn;
+    dn = c.run_dn;
+    angle = c.run_angle;
+  } else {
+    const double m = phaseAt(c, t, sn, cn, dn);
+    const double sign = c.rho * c.rho_a;
+    c.run_sn = sign * sn;
+    c.run_cn = sign * cn;
+    c.run_dn = dn;
+    angle = continuedAngle(c, m, sn, cn, dn);
+  }
+  const double ss = s_old * c.step_sn;
+  const double den = 1.0 - c.nchar * (c.run_sn * c.run_sn) + c.nchar * ss * c.run_cn * c.run_dn;
+  c.run_atan += std::atan(c.add_B * ss * c.run_sn / den);
+  const double j = ++c.run_steps;
+  c.psi = reduceAngle(c.run_psi0 +
+                      (c.rate * (j * h) + c.coef_pi * (j * c.step_P - c.add_A * c.run_atan) +
+                       c.coef_atan * (angle - c.run_angle0)));
 }
 
 }  // namespace
@@ -310,9 +479,10 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //      Δψ_half = ±2β (ν/3) R_J(0, k'², 1, 1 − ν) [− γ π for n].
 //    A step evaluates, from the anchor (τ_a, ψ_a, g_a) and the elapsed time t = k h,
 //    τ = τ_a + ω_p t (m half periods removed) and ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) − g_a:
-//    one sn/cn/dn (Bulirsch) and one R_J per step, whatever h. Nothing is compounded or summed
-//    over steps, so the round-off of τ and ψ is a few ulps of ω_p t and rate·t themselves (the
-//    floor set by the rounding of ω_p and rate), not a growing sum of per-step roundings.
+//    one sn/cn/dn (Bulirsch) and one R_J, whatever h. Nothing is compounded over steps, so the
+//    round-off of τ and ψ is a few ulps of ω_p t and rate·t themselves (the floor set by the
+//    rounding of ω_p and rate), not a growing sum of per-step roundings. Point 7 evaluates this
+//    only on the first step of every run of kRunLength steps.
 //
 // 5. Special states. Separatrix (D = E J2 exactly, k = 1): sn = tanh τ, cn = dn = sech τ, no
 //    period; in the dual form Π(N; am τ, 1) − F is elementary and
@@ -330,6 +500,31 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
 //    only 1/ω_p-sized cancellation. Switching earlier would cost accuracy, not buy it: the
 //    symmetric solution of the averaged body departs from the true one by O((J2 − J1)/J1 ·
 //    phase); at the threshold that is below 1e-9 after 1e3 rad of rotation.
+//
+// 7. Runs of steps by the addition theorems. R_J is the dearest part of point 4, so within a run
+//    of kRunLength steps only the first evaluates Π from the anchor; the others add its change.
+//    With P(u) = Π(ν; am u, k) − u = ∫₀ᵘ ν sn²/(1 − ν sn²), Jacobi's addition theorem for his Π
+//    function Π(u, a) = ∫₀ᵘ k² sn a cn a dn a sn²/(1 − k² sn² a sn²) (Π(u, a) + Π(v, a) − Π(u + v,
+//    a) = ½ ln[(1 − k² sn a sn u sn v sn(u + v − a))/(1 + k² sn a sn u sn v sn(u + v + a))], with
+//    ν = k² sn² a) becomes for ν = −μ ≤ 0 (a imaginary: sn a = i√μ/k, cn a = √(1 + μ/k²),
+//    dn a = √(1 + μ), and ½ ln((p − iq)/(p + iq)) = −i atan(q/p)), after expanding sn(w ∓ a):
+//      P(u + v) = P(u) + P(v) − A atan(B sn u sn v sn w / (1 − ν sn² w + ν sn u sn v cn w dn w)),
+//      w = u + v,  A = √(μ/((k² + μ)(1 + μ))),  B = √(μ (k² + μ)(1 + μ))
+//    (A B = μ: to third order both sides give P(u + v) − P(u) − P(v) = ν u v (u + v)). The
+//    denominator is 1 + O(|ν|) > 0 for |ν| ≤ k < 1, so the atan is continuous in u, v and the
+//    identity holds for any real steps. So ψ(t_run + j h) = ψ(t_run) + rate·j h + coef_pi (j P(δ)
+//    − A Σ atan(…)) + coef_atan ΔΦ (or ΔΘ), δ = ω_p h, with P(δ) from point 4 once per step size.
+//    sn, cn, dn at the new phase come from the anchor (Bulirsch, as in point 4), or, for a small
+//    phase step (δ ≤ kSmallPhaseStep) or a well-conditioned modulus (k'² ≥ kWellConditionedKp2),
+//    from their own addition theorems sn(u + δ) = (sn u cn δ dn δ + sn δ cn u dn u)/D,
+//    cn(u + δ) = (cn u cn δ − sn u sn δ dn u dn δ)/D, projected back onto sn² + cn² = 1 and
+//    dn = √(cn² + k'² sn²) (the projection removes D). Why the conditions: the recurrence alone
+//    amplifies an error off those curves (ε grew 1.35× per step at δ ≈ 0.7 on J = (1, 2, 3)), and
+//    along the curve an absolute error ε in (sn, cn, dn) is a phase error ε/|∇| with |∇| ≈ dn,
+//    which near the separatrix spends its time at dn ≈ k' ≪ 1; small steps keep the relative
+//    precision of small cn and dn (no cancellation in the theorems), and a large k' has no such
+//    region. A run's round-off adds up over at most kRunLength − 1 steps and restarts from the
+//    anchor (test: AdditionTheoremStepsEqualTheAnchoredEvaluation).
 //
 // Symmetric and spherical bodies use the closed forms of free_flow.h, with their angles likewise
 // evaluated from the elapsed time (ψ_a + rate·t, ψ3_a + β t) and reduced, and w_B rebuilt from
@@ -375,6 +570,13 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   // The elapsed time since the anchor, t = k h (free_flow.h): a new anchor when the cache was
   // rebuilt or the step size changed.
   if (!valid || c.anchor_h != h) {
+    // A new step size in the middle of a run: the phase of the anchor to come is the phase now,
+    // evaluated from the old anchor (the run does not keep τ and g up to date).
+    if (valid && c.path == Path::kElliptic && c.run_steps > 0) {
+      double sn, cn, dn;
+      evaluateFromAnchor(c, c.anchor_steps * c.anchor_h, sn, cn, dn);
+    }
+    c.run_steps = 0;
     c.anchor_h = h;
     c.anchor_steps = 0;
     c.psi_a = c.psi;
@@ -403,21 +605,13 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       break;
     }
     case Path::kElliptic: {
-      // m whole half periods 2K since the anchor, each flipping the sign ρ and adding Δψ_half.
-      double tau = c.tau_a + c.omega_p * t;
-      double m = 0.0;
-      if (std::abs(tau) > c.K) {
-        m = std::nearbyint(tau / (2.0 * c.K));
-        tau = std::fma(-2.0 * c.K, m, tau);
-        if (!c.dpsi_half_ready) computeHalfPeriodGain(c);
-      }
-      c.rho = std::fmod(m, 2.0) != 0.0 ? -c.rho_a : c.rho_a;
       double sn, cn, dn;
-      jacobiSnCnDn(tau, c, sn, cn, dn);
-      const double g = periodicPsi(c, sn, cn, dn);
-      c.psi = reduceAngle(c.psi_a + (c.rate * t + m * c.dpsi_half + (g - c.g_a)));
-      c.tau = tau;
-      c.g_tau = g;
+      if (c.anchor_steps == 1 || c.run_steps + 1 >= kRunLength || !c.step_ready) {
+        evaluateFromAnchor(c, t, sn, cn, dn);
+        if (!c.step_ready || c.step_h != h) buildStepConstants(h, c);
+      } else {
+        stepInRun(c, t, h, sn, cn, dn);
+      }
       const Eigen::Vector3d L = ellipticL(c, sn, cn, dn);
       r = attitude(c, L);
       w_new = L.cwiseQuotient(J);

@@ -231,6 +231,78 @@ TEST(ExactFreeFlow, NStepsEqualOneLongStep) {
   }
 }
 
+// Truth: the semigroup property for the steps that take Π's part of ψ from its addition theorem
+// and, for small phase steps, sn, cn, dn from theirs (free_flow.cc, point 7): j steps of h
+// against one step of j h, for j = 1 … 100 (three runs and a part), which the cache evaluates
+// from its anchor with R_J and Bulirsch's sn, cn, dn — an independent evaluation of the same
+// closed form. Phase steps δ = ω_p h of 1e-3, 0.03 and 0.2 take the small-step path; 0.05 … 3.6
+// half periods 2K the other (0.8 and 1.3 round to one half period: sn δ changes sign); both
+// paths and both forms (n and N) are checked to occur. Bodies: both polhode axes, near the
+// separatrix (k' ≪ 1: the state spends its time at cn, dn ≈ k', where an absolute error ε in
+// them would be a phase error ε/k'), near symmetry, the thin rod. Tolerance: a run adds up at
+// most 31 steps' round-off, a few ε each, on top of the anchored phase's few ulps:
+// 64 ε (1 + phase), phase = |w| j h the angle turned.
+TEST(ExactFreeFlow, AdditionTheoremStepsEqualTheAnchoredEvaluation) {
+  struct Case {
+    const char* name;
+    Eigen::Vector3d J, w;
+  };
+  const Case cases[] = {{"e3 polhode", {1.0, 2.0, 3.0}, {0.3, 1.0, -2.0}},
+                        {"e1 polhode", {1.0, 2.0, 3.0}, {2.0, 1.0, 0.3}},
+                        {"racket", {1.0, 2.0, 3.0}, {0.01, 2.0, 0.01}},
+                        {"near separatrix", {1.0, 2.0, 3.0}, {1e-7, 2.0, 1e-7}},
+                        {"near symmetric", {1.0, 1.0 + 1e-6, 2.0}, {0.5, 0.2, 1.0}},
+                        {"box", {1.0, 1.2, 1.9}, {0.9, -0.4, 0.7}},
+                        {"thin rod", {1.0, 1.0005, 1e-3}, {0.3, 0.2, 100.0}}};
+  // Phase steps δ: 1e-3, 0.03, 0.2 (small: sn, cn, dn by their addition theorems), and 0.05 …
+  // 3.6 half periods (from the anchor when δ > 0.25).
+  const double small_deltas[] = {1e-3, 0.03, 0.2};
+  const double fractions[] = {0.05, 0.45, 0.8, 1.3, 1.7, 3.6};
+  std::mt19937 rng(21);
+  bool saw_n = false, saw_N = false, saw_small = false, saw_large = false;
+  for (const Case& c : cases) {
+    const Inertia I = principal(c.J);
+    const BodyState s0 = makeState(randomRotation(rng), Eigen::Vector3d(0.3, -1.0, 2.0), c.w,
+                                   Eigen::Vector3d(0.5, 0.1, -0.2), 1.0);
+    // The half period 2K/ω_p of this state, from a cache built by one short step.
+    FreeFlowCache probe;
+    BodyState p = s0;
+    exactFreeFlow(I, 1.0, 1e-9, p, probe);
+    ASSERT_EQ(probe.path, FreeFlowCache::Path::kElliptic) << c.name;
+    (probe.dual ? saw_N : saw_n) = true;
+    const double half_period = 2.0 * probe.K / probe.omega_p;
+    double worst = 0.0;
+    std::vector<double> hs;
+    for (double d : small_deltas) hs.push_back(d / probe.omega_p);
+    for (double f : fractions) hs.push_back(f * half_period);
+    for (double h : hs) {
+      const double f = h / half_period;
+      FreeFlowCache cache;
+      BodyState a = s0;
+      for (int j = 1; j <= 100; ++j) {
+        exactFreeFlow(I, 1.0, h, a, cache);
+        (cache.step_small ? saw_small : saw_large) = true;
+        BodyState b = s0;
+        FreeFlowCache once;
+        exactFreeFlow(I, 1.0, j * h, b, once);
+        const double tol = 64 * kEps * (1.0 + c.w.norm() * j * h);
+        const double d_rot = rotorDistance(a.M_WB.rotation(), b.M_WB.rotation());
+        const double d_w = (a.omega_B.rot - b.omega_B.rot).norm() / c.w.norm();
+        ASSERT_LE(d_rot, tol) << c.name << " h = " << f << " half periods, step " << j;
+        ASSERT_LE(d_w, tol) << c.name << " h = " << f << " half periods, step " << j;
+        worst = std::max(worst, std::max(d_rot, d_w) / (kEps * (1.0 + c.w.norm() * j * h)));
+      }
+    }
+    std::printf(
+        "[ info ] %-16s (%s) 100 steps of δ = 1e-3 … 3.6 half periods: worst %.1f ε (1 + phase)\n",
+        c.name, probe.dual ? "N" : "n", worst);
+  }
+  EXPECT_TRUE(saw_n);
+  EXPECT_TRUE(saw_N);
+  EXPECT_TRUE(saw_small);
+  EXPECT_TRUE(saw_large);
+}
+
 // Truth: the semigroup property once more, over 10⁶ steps: 10⁶ steps of h = 1 ms against one
 // step of 1000 s. The phases are evaluated from the elapsed time (free_flow.h), so both sides
 // carry only the rounding of rate·t, ω_p t and the attitude built from them: a few ulps of the

@@ -25,7 +25,10 @@
 // ψ3 = ψ3_a + β t (symmetric), τ = τ_a + ω_p t with ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) −
 // g(τ_a) (elliptic; m whole half periods, τ_r reduced to [−K, K]), t = k h, each reduced once
 // to [−π, π]. So the round-off of a phase is a few ulps of the phase itself — the conditioning
-// floor, set by the rounding of the rates — however many steps it took. The centre of mass
+// floor, set by the rounding of the rates — however many steps it took. (Elliptic: the third-kind
+// integral inside g is evaluated so only on the first step of every run of 32; the others add its
+// change by the integral's addition theorem, and sn, cn, dn advance by theirs when that is well
+// conditioned — free_flow.cc, point 7 — so a run's round-off adds up over ≤ 31 steps only.) The centre of mass
 // likewise: x_W = x_a + v_a t + ½ g t² from its own anchor (renewed when a kick changes v). The
 // rotor is rebuilt in closed form from those angles, never by compounding
 // step rotations, so world L, |L| and T are kept to round-off at every step, and N steps of h
@@ -115,8 +118,21 @@ struct FreeFlowCache {
   double coef_atan = 0;
   double dpsi_half = 0;          ///< ψ gained per half period 2K of τ, beyond rate·t
   bool dpsi_half_ready = false;  ///< dpsi_half is computed on first use
-  double tau = 0;                ///< current reduced phase
+  double tau = 0;                ///< reduced phase of the last evaluation from the anchor
   double g_tau = 0;              ///< g at tau
+  // Steps between evaluations of Π from the anchor (runs of kRunLength steps) take Π's part of ψ
+  // from its addition theorem (free_flow.cc, point 7): sn δ and the gain P(δ) of Π(ν; am τ) − τ
+  // over one step δ = ω_p h (for the step size `step_h`; step_ready false after a rebuild), the
+  // theorem's constants A and B; the signed sn of the last step, the sum of the theorem's atan
+  // terms, the angle term (Φ, or Θ continued) and ψ where the run started, and its steps.
+  bool step_ready = false;
+  double step_h = 0;
+  bool step_small = false;  ///< δ small: sn, cn, dn advance by their addition theorems too
+  double step_sn = 0, step_cn = 1, step_dn = 1, step_P = 0;
+  double add_A = 0, add_B = 0;
+  double run_sn = 0, run_cn = 1, run_dn = 1, run_atan = 0, run_angle = 0, run_angle0 = 0,
+         run_psi0 = 0;
+  int run_steps = 0;
   // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn (a_j, 1/a_j, b_j), and its limit.
   static constexpr int kMaxAgm = 40;
   int agm_levels = 0;
