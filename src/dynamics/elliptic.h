@@ -99,9 +99,7 @@ inline void buildAgm(double kp2, FreeFlowCache& c) {
   double a = 1.0, b = std::sqrt(kp2);
   c.agm_levels = 0;
   for (;;) {
-    c.agm_a[c.agm_levels] = a;
-    c.agm_inv_a[c.agm_levels] = 1.0 / a;
-    c.agm_b[c.agm_levels] = b;
+    c.agm[c.agm_levels] = {a, 1.0 / a, b};
     ++c.agm_levels;
     const double mean = 0.5 * (a + b);
     if (std::abs(a - b) <= kTol * a || c.agm_levels == FreeFlowCache::kMaxAgm) {
@@ -123,8 +121,9 @@ inline void jacobiSnCnDn(double u, const FreeFlowCache& c, double& sn, double& c
     for (int j = c.agm_levels - 1; j >= 0; --j) {
       ratio *= q;
       q *= d;
-      d = (c.agm_b[j] + ratio) / (c.agm_a[j] + ratio);
-      ratio = q * c.agm_inv_a[j];
+      const FreeFlowCache::AgmLevel& level = c.agm[j];
+      d = (level.b + ratio) / (level.a + ratio);
+      ratio = q * level.inv_a;
     }
     const double r = 1.0 / std::sqrt(q * q + 1.0);
     s = s >= 0.0 ? r : -r;

@@ -68,9 +68,10 @@ inline Eigen::Quaterniond swing(const Eigen::Vector3d& u, const Eigen::Vector3d&
 inline double angleTerm(const FreeFlowCache& c, double sn, double cn, double dn) {
   if (!c.dual) return std::atan2(c.Bb * sn, c.Ba * cn);
   // Φ's denominator is positive (dn > 0, and cn, sn never vanish together): atan of the ratio.
-  const double ell_minus = (c.Ba * c.Ba + c.G * sn * sn) / (c.ell + c.Bc * dn);
-  return std::atan((c.Ba * c.Bb * sn * cn * ell_minus) /
-                   (c.Ba * c.Ba * c.Bc * dn * cn * cn + c.Bb * c.Bb * c.ell * sn * sn));
+  // Φ = atan(B_a B_b sn cn (ℓ − B_c dn) / den), with ℓ − B_c dn = num/(ℓ + B_c dn): one division.
+  const double num = c.Ba * c.Ba + c.G * sn * sn;
+  const double den = c.Ba * c.Ba * c.Bc * dn * cn * cn + c.Bb * c.Bb * c.ell * sn * sn;
+  return std::atan((c.Ba * c.Bb * sn * cn * num) / ((c.ell + c.Bc * dn) * den));
 }
 
 // Π(ν; am τ) − τ = (ν/3) sn³ R_J(cn², dn², 1, 1 − ν sn²) for a reduced phase (|am τ| ≤ π/2).
@@ -117,7 +118,7 @@ inline Eigen::Vector3d referenceAxis(const FreeFlowCache& c) {
 // across e_c, is formed by components (u is a principal axis) and then carried by Q.
 inline Eigen::Quaterniond attitude(const FreeFlowCache& c, const Eigen::Vector3d& L_B) {
   const int i0 = c.ic, i1 = i0 == 2 ? 0 : i0 + 1, i2 = i0 == 0 ? 2 : i0 - 1;  // cyclic
-  const double inv_ell = 1.0 / c.ell;
+  const double inv_ell = c.inv_ell;
   const double a0 = L_B[i0] * inv_ell, a1 = L_B[i1] * inv_ell, a2 = L_B[i2] * inv_ell;
   const double p0 = 1.0 + c.sigma * a0, p1 = -c.sigma * a2, p2 = c.sigma * a1;  // P unnormalised
   const double inv_norm = 1.0 / std::sqrt(p0 * p0 + p1 * p1 + p2 * p2);
@@ -215,6 +216,8 @@ void buildAsymmetric(const Eigen::Vector3d& J, const Eigen::Quaterniond& r,
   c.omega_p = std::sqrt(((Jc - Jb) * d_minus_eja) / (Ja * Jb * Jc));
   c.G = G;
   c.ell = L.norm();
+  c.inv_ell = 1.0 / c.ell;
+  c.inv_J = J.cwiseInverse();
   const double beta = c.ell * (Jc - Ja) / (Ja * Jc * c.omega_p);
   const double gamma = c.Ba * c.Bc * (Jc - Ja) / (Ja * Jc * c.omega_p * c.Bb);
   // The two characteristics n = −G/B_a² and N = k²/n = −B_a²/B_c² (nN = k² ≤ 1): use the
@@ -614,7 +617,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       }
       const Eigen::Vector3d L = ellipticL(c, sn, cn, dn);
       r = attitude(c, L);
-      w_new = L.cwiseQuotient(J);
+      w_new = L.cwiseProduct(c.inv_J);
       break;
     }
     case Path::kSeparatrix: {
@@ -626,7 +629,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       c.g_tau = g;
       const Eigen::Vector3d L = ellipticL(c, sn, cn, cn);
       r = attitude(c, L);
-      w_new = L.cwiseQuotient(J);
+      w_new = L.cwiseProduct(c.inv_J);
       break;
     }
   }

@@ -28,11 +28,11 @@
 // floor, set by the rounding of the rates — however many steps it took. (Elliptic: the third-kind
 // integral inside g is evaluated so only on the first step of every run of 32; the others add its
 // change by the integral's addition theorem, and sn, cn, dn advance by theirs when that is well
-// conditioned — free_flow.cc, point 7 — so a run's round-off adds up over ≤ 31 steps only.) The centre of mass
-// likewise: x_W = x_a + v_a t + ½ g t² from its own anchor (renewed when a kick changes v). The
-// rotor is rebuilt in closed form from those angles, never by compounding
-// step rotations, so world L, |L| and T are kept to round-off at every step, and N steps of h
-// equal one step of N h to round-off (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
+// conditioned — free_flow.cc, point 7 — so a run's round-off adds up over ≤ 31 steps only.) The
+// centre of mass likewise: x_W = x_a + v_a t + ½ g t² from its own anchor (renewed when a kick
+// changes v). The rotor is rebuilt in closed form from those angles, never by compounding step
+// rotations, so world L, |L| and T are kept to round-off at every step, and N steps of h equal one
+// step of N h to round-off (doc/conventions.md#how-the-code-evaluates-the-closed-forms).
 #pragma once
 
 #include <Eigen/Core>
@@ -107,9 +107,11 @@ struct FreeFlowCache {
   int ia = 0, ib = 1, ic = 2;
   double sigma = 1, rho = 1;
   double Ba = 0, Bb = 0, Bc = 0;
-  double ell = 0;      ///< |L|
-  double G = 0;        ///< B_b² − B_a² = k² B_c²
-  double kp2 = 0;      ///< complementary parameter k'² = 1 − k²
+  double ell = 0;                                   ///< |L|
+  double inv_ell = 0;                               ///< 1/|L|
+  Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i: w = L_B/J each step
+  double G = 0;                                     ///< B_b² − B_a² = k² B_c²
+  double kp2 = 0;                                   ///< complementary parameter k'² = 1 − k²
   double K = 0;        ///< complete integral of the first kind K(k) (quarter period in τ)
   double omega_p = 0;  ///< dτ/dt
   bool dual = false;   ///< ψ written with the characteristic N = k²/n instead of n
@@ -133,12 +135,15 @@ struct FreeFlowCache {
   double run_sn = 0, run_cn = 1, run_dn = 1, run_atan = 0, run_angle = 0, run_angle0 = 0,
          run_psi0 = 0;
   int run_steps = 0;
-  // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn (a_j, 1/a_j, b_j), and its limit.
-  static constexpr int kMaxAgm = 40;
+  // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn, level by level (a_j, 1/a_j, b_j), and
+  // its limit. 16 levels cover every k'² down to the smallest double (12 are needed there: the
+  // gap's logarithm halves per level until it is O(1), then the gap squares).
+  struct AgmLevel {
+    double a = 1, inv_a = 1, b = 1;
+  };
+  static constexpr int kMaxAgm = 16;
   int agm_levels = 0;
-  double agm_a[kMaxAgm] = {};
-  double agm_inv_a[kMaxAgm] = {};
-  double agm_b[kMaxAgm] = {};
+  AgmLevel agm[kMaxAgm];
   double agm_limit = 1;
 };
 
