@@ -163,8 +163,9 @@ void buildStepConstants(double h, FreeFlowCache& c) {
   c.step_P = (m != 0.0 ? m * halfPeriodThirdKindGain(c) : 0.0) + thirdKindGain(c, sn, cn, dn);
   // P(u + δ) = P(u) + P(δ) − A atan(B sn u sn δ sn(u + δ)/(1 − ν sn²(u + δ) + ν sn u sn δ
   // cn(u + δ) dn(u + δ))), μ = −ν ≥ 0.
+  // k² = G/B_c² ≥ 0 as formed (1 − k'² can round below 0 as k → 0, where k'² rounds above 1).
   const double mu = -c.nchar;
-  const double k2 = 1.0 - c.kp2;
+  const double k2 = c.G / (c.Bc * c.Bc);
   if (mu > 0.0) {
     c.add_A = std::sqrt(mu / ((k2 + mu) * (1.0 + mu)));
     c.add_B = std::sqrt(mu * (k2 + mu) * (1.0 + mu));

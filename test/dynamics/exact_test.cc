@@ -303,6 +303,35 @@ TEST(ExactFreeFlow, AdditionTheoremStepsEqualTheAnchoredEvaluation) {
   EXPECT_TRUE(saw_large);
 }
 
+// Regression (found by Contacts.EnergyNeverRisesInARandomPile): a box spinning almost exactly
+// about its smallest axis, where the computed k'² rounds to 1 + 2⁻⁵² (k² ≈ 1e-19). The addition
+// theorem's constants once took k² = 1 − k'² < 0 and the state became NaN on the second step;
+// k² is now formed as G/B_c² ≥ 0. Truth: the free motion keeps |L| and T, and 100 steps of h
+// equal one step of 100 h. Tolerance: 64 ε relative — a closed form rebuilt each step
+// (ExactFreeFlow.ConservesWorldAngularMomentumAndEnergy), over a phase of 0.4 rad.
+TEST(ExactFreeFlow, SpinWhereKPrimeSquaredRoundsAboveOneStaysFinite) {
+  const Inertia I =
+      principal({0.0023900012230343303, 0.0036769249585143549, 0.0045961561981429427});
+  const Eigen::Vector3d w0(-3.9930218490359617, -1.7996087661795938e-09, -5.0349232295196098e-10);
+  const BodyState s0 = makeState(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(), w0,
+                                 Eigen::Vector3d::Zero(), 1.0);
+  FreeFlowCache cache;
+  BodyState a = s0;
+  exactFreeFlow(I, 1.0, 1e-3, a, cache);
+  EXPECT_GT(cache.kp2, 1.0);  // the edge this test is about
+  for (int i = 1; i < 100; ++i) exactFreeFlow(I, 1.0, 1e-3, a, cache);
+  ASSERT_TRUE(a.allFinite());
+  const BodyState b = flowSteps(I, 1.0, s0, 0.1, 1);
+  const Eigen::Vector3d J = I.principalMoments();
+  const double L0 = J.cwiseProduct(w0).norm(), L1 = J.cwiseProduct(a.omega_B.rot).norm();
+  const double T0 = w0.dot(J.cwiseProduct(w0)),
+               T1 = a.omega_B.rot.dot(J.cwiseProduct(a.omega_B.rot));
+  EXPECT_NEAR(L1 / L0, 1.0, 64 * kEps);
+  EXPECT_NEAR(T1 / T0, 1.0, 64 * kEps);
+  EXPECT_LE(rotorDistance(a.M_WB.rotation(), b.M_WB.rotation()), 64 * kEps);
+  EXPECT_LE((a.omega_B.rot - b.omega_B.rot).norm() / w0.norm(), 64 * kEps);
+}
+
 // Truth: the semigroup property once more, over 10⁶ steps: 10⁶ steps of h = 1 ms against one
 // step of 1000 s. The phases are evaluated from the elapsed time (free_flow.h), so both sides
 // carry only the rounding of rate·t, ω_p t and the attitude built from them: a few ulps of the
