@@ -134,6 +134,7 @@ CGA_ALWAYS_INLINE void refreshCache(const Inertia& inertia, Cache& cache) {
   const Eigen::Vector3d& J = inertia.principalMoments();
   if (J != cache.J) {
     cache.J = J;
+    cache.inv_J = J.cwiseInverse();
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3, k = (i + 2) % 3;
       cache.ratio[2 * i] = J[k] / J[j];
@@ -170,23 +171,19 @@ CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, const double* 
   }
 }
 
-// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose. Gravity alone (the
-// common case) is written out: (I∧n)⁻¹ (0, λ m R̃ g) = (0, R̃ g/λ).
+// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose (Loads::moment_B: one
+// rotation into the body for all world-axes parts): (I∧n)⁻¹ (τ_B, λ f_B) = (τ_B/J, f_B/(m λ)).
 CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const Loads& loads, double lambda, double tau,
-                            BodyState& s) {
-  if (loads.hasApplied()) {
-    cga::Moment T = loads.gravityMoment_B(inertia.mass(), s.M_WB, lambda);
-    T += loads.appliedMoment_B(s.M_WB, lambda);
-    s.omega_B += tau * inertia.solve(T, lambda);
+                            const Cache& cache, BodyState& s) {
+  if (!loads.hasApplied()) {
+    // Gravity alone (the common case): the velocity change τ R̃ g.
+    s.omega_B.trans += (tau / lambda) * Loads::toBody(s.M_WB.rotorQuaternion(), loads.gravity());
     return;
   }
-  // R̃ g, the rotation of g by r* = (w, −a): with t = 2 g × a, R̃ g = g + w t + t × a.
-  const Eigen::Quaterniond& r = s.M_WB.rotorQuaternion();
-  const Eigen::Vector3d& g = loads.gravity();
-  const Eigen::Vector3d a = r.vec();
-  const Eigen::Vector3d t = 2.0 * g.cross(a);
-  const Eigen::Vector3d g_B = g + r.w() * t + t.cross(a);
-  s.omega_B.trans += (tau / lambda) * g_B;
+  const double m = inertia.mass();
+  const cga::Moment T = loads.moment_B(m, s.M_WB, lambda);
+  s.omega_B.rot += tau * T.rot.cwiseProduct(cache.inv_J);
+  s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
 }
 
 // The composition for a fixed number of stages S (unrolled).
@@ -212,7 +209,7 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
     endFreeFlow(f, h, u0, state);
     return;
   }
-  kick(inertia, loads, lambda, 0.5 * gamma[0] * h, state);
+  kick(inertia, loads, lambda, 0.5 * gamma[0] * h, cache, state);
 #pragma GCC unroll 8
   for (int i = 0; i < S; ++i) {
     const double tau = gamma[i] * h;
@@ -224,7 +221,7 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
     rotatePiece<kB>(0.5 * tau, ratio, f);
     rotatePiece<kA>(0.5 * tau, ratio, f);
     endFreeFlow(f, tau, u0, state);
-    kick(inertia, loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), state);
+    kick(inertia, loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), cache, state);
   }
 }
 

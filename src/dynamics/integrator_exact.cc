@@ -6,8 +6,7 @@ namespace {
 
 // K(τ): Ω_B += τ (I∧n)⁻¹ T, T the applied and gravity moments at the current pose.
 void kick(const Inertia& inertia, const Loads& loads, double lambda, double tau, BodyState& state) {
-  const cga::Moment T = loads.appliedMoment_B(state.M_WB, lambda) +
-                        loads.gravityMoment_B(inertia.mass(), state.M_WB, lambda);
+  const cga::Moment T = loads.moment_B(inertia.mass(), state.M_WB, lambda);
   state.omega_B += inertia.solve(T, lambda) * tau;
 }
 

@@ -39,6 +39,7 @@ namespace splitting {
 struct Cache {
   Eigen::Vector3d J = Eigen::Vector3d::Zero();
   double ratio[6] = {0, 0, 0, 0, 0, 0};
+  Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i, for the kicks' Δw = τ T/J
 };
 
 /// One step h of the symmetric composition S(γ_1 h) ∘ … ∘ S(γ_s h) of the Strang step S above

@@ -68,6 +68,44 @@ class Loads {
     }
     return T;
   }
+  /// Gravity's and the applied loads' body moment at the pose M_WB, T = (τ_B, λ f_B): the same
+  /// as gravityMoment_B + appliedMoment_B, with the world-axes parts (m g, world forces and
+  /// couples, and the moments (R x_B) × f_W of world forces at body points) summed in world axes
+  /// and rotated into the body once, instead of once per vector of every load.
+  __attribute__((always_inline)) cga::Moment moment_B(double mass, const cga::Motor& M_WB,
+                                                      double lambda) const {
+    const Eigen::Quaterniond& r = M_WB.rotation();
+    Eigen::Vector3d f_W = mass * g_W_, couple_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d f_B = Eigen::Vector3d::Zero(), couple_B = Eigen::Vector3d::Zero();
+    bool world_couple = false;
+    for (const auto& l : applied_) {
+      if (l.axes == Axes::kWorld) {
+        f_W += l.F.f;
+        if (!l.point_B.isZero(0.0)) {
+          couple_W += (r * l.point_B).cross(l.F.f);
+          world_couple = true;
+        }
+        if (!l.couple.isZero(0.0)) {
+          couple_W += l.couple;
+          world_couple = true;
+        }
+      } else {
+        f_B += l.F.f;
+        couple_B += l.couple + l.point_B.cross(l.F.f);
+      }
+    }
+    if (!f_W.isZero(0.0)) f_B += toBody(r, f_W);
+    if (world_couple) couple_B += toBody(r, couple_W);
+    return {couple_B, lambda * f_B};
+  }
+  /// R̃ x: a world vector in the axes of the body with rotor r = (w, a), written out
+  /// (t = 2 x × a, R̃ x = x + w t + t × a) so that it inlines.
+  __attribute__((always_inline)) static Eigen::Vector3d toBody(const Eigen::Quaterniond& r,
+                                                               const Eigen::Vector3d& x) {
+    const Eigen::Vector3d a = r.vec();
+    const Eigen::Vector3d t = 2.0 * x.cross(a);
+    return x + r.w() * t + t.cross(a);
+  }
   /// Gravity's moment on a body of mass m at the pose M_WB: (0, λ m R̃ g).
   cga::Moment gravityMoment_B(double mass, const cga::Motor& M_WB, double lambda) const {
     return {Eigen::Vector3d::Zero(), (lambda * mass) * (M_WB.rotation().conjugate() * g_W_)};
