@@ -117,7 +117,44 @@ void coshSinhcComplex(std::complex<double> z, std::complex<double>& C, std::comp
   S = std::abs(z) < kSeriesLimit ? sSeries(z) : std::sinh(w) / w;
 }
 
+// The signed permutations of bladeAction, for both signatures.
+struct BladeActions {
+  BladeAction action[2][6];
+};
+constexpr BladeActions makeBladeActions() {
+  BladeActions t{};
+  for (int s = 0; s < 2; ++s)
+    for (int k = 0; k < 6; ++k) {
+      BladeAction& a = t.action[s][k];
+      const int K = k + 1;  // the blade's even storage index
+      // ψ e_k: stored blade i times e_k is sign · stored blade index[i][K].
+      for (int i = 0; i < 8; ++i) {
+        const int m = kTable.index[i][K];
+        a.rightIndex[m] = i;
+        a.rightSign[m] = kTable.sign[s][i][K];
+      }
+      // e_k × e_j = ½(e_k e_j − e_j e_k): nonzero (= e_k e_j) when they anticommute.
+      for (int m = 0; m < 6; ++m) {
+        a.bracketIndex[m] = m;
+        a.bracketSign[m] = 0.0;
+      }
+      for (int j = 0; j < 6; ++j) {
+        const int J = j + 1, m = kTable.index[K][J];
+        if (kTable.sign[s][K][J] == -kTable.sign[s][J][K] && m >= 1 && m <= 6) {
+          a.bracketIndex[m - 1] = j;
+          a.bracketSign[m - 1] = kTable.sign[s][K][J];
+        }
+      }
+    }
+  return t;
+}
+constexpr BladeActions kBladeActions = makeBladeActions();
+
 }  // namespace
+
+const BladeAction& bladeAction(int k, int sigma) {
+  return kBladeActions.action[sigmaSlot(sigma)][k];
+}
 
 Rotor4 multiply(const Rotor4& a, const Rotor4& b, int sigma) {
   const int s = sigmaSlot(sigma);

@@ -6,12 +6,6 @@ namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
 
-cga::Bivector4 unitBlade(int k) {
-  cga::Bivector4 e;
-  e[k] = 1.0;
-  return e;
-}
-
 // K(τ): L_B += τ (ψ̃ M_W ψ + M_B).
 void kick(const CurvedInertia& I, const CurvedLoads& loads, double tau, CurvedBodyState& s) {
   const cga::Bivector4 M_B = cga::rotateBack(s.psi, loads.moment_W, I.sigma()) + loads.moment_B;
@@ -31,49 +25,69 @@ void kick(const CurvedInertia& I, const CurvedLoads& loads, double tau, CurvedBo
 //     X = e_k × L and Y = e_k × X = e_k² L_V:
 //       e_k² = −1 (a rotation): L ← L + sin θ X + versin θ Y,
 //       e_k² = +1 (a boost):    L ← L + sinh θ X + 2 sinh²(θ/2) Y.
+// Every trigonometric value comes from the quarter angle (one sin and one cos):
+//   s_h = 2 sin(θ/4) cos(θ/4), cos(θ/2) = 1 − 2 sin²(θ/4), sin θ = 2 s_h cos(θ/2),
+//   versin θ = 2 s_h²  (and the same with sinh, cosh and 1 + 2 sinh²(θ/4)).
+// The products with e_k are the signed permutations of cga::bladeAction.
+namespace {
+
+struct Pieces {
+  double L[6];
+  double psi[8];
+};
+
+inline void planePiece(const cga::BladeAction& a, bool circular, double moment, double g, int k,
+                       double tau, Pieces& p) {
+  const double theta = tau * g * p.L[k] / moment;
+  if (theta == 0.0) return;
+  const double q4 = circular ? std::sin(0.25 * theta) : std::sinh(0.25 * theta);
+  const double c4 = circular ? std::cos(0.25 * theta) : std::cosh(0.25 * theta);
+  const double sh = 2.0 * q4 * c4;                              // sin(θ/2) or sinh(θ/2)
+  const double vh = circular ? 2.0 * q4 * q4 : -2.0 * q4 * q4;  // 1 − cos(θ/2) or 1 − cosh
+  const double s = 2.0 * sh * (1.0 - vh), w = 2.0 * sh * sh;    // sin θ, versin θ (sinh …)
+  double X[6];
+  for (int m = 0; m < 6; ++m) X[m] = a.bracketSign[m] * p.L[a.bracketIndex[m]];
+  for (int m = 0; m < 6; ++m) p.L[m] += s * X[m] + w * (a.bracketSign[m] * X[a.bracketIndex[m]]);
+  double pe[8];
+  for (int m = 0; m < 8; ++m) pe[m] = a.rightSign[m] * p.psi[a.rightIndex[m]];
+  for (int m = 0; m < 8; ++m) p.psi[m] -= vh * p.psi[m] + sh * pe[m];
+}
+
+}  // namespace
+
 void curvedPlanePiece(const CurvedInertia& I, int k, double tau, cga::Rotor4& psi,
                       cga::Bivector4& L) {
   const int sigma = I.sigma();
-  const double g = k < 3 ? 1.0 : static_cast<double>(sigma);
-  const double theta = tau * g * L[k] / I.planeMoments()[k];
-  if (theta == 0.0) return;
-  const bool circular = cga::bladeSquare(k, sigma) < 0;
-  double s, w, sh, vh;  // sin θ, versin-like term; sin(θ/2), 1 − cos(θ/2)
-  if (circular) {
-    s = std::sin(theta);
-    const double sh2 = std::sin(0.5 * theta);
-    w = 2.0 * sh2 * sh2;
-    sh = sh2;
-    const double q = std::sin(0.25 * theta);
-    vh = 2.0 * q * q;
-  } else {
-    s = std::sinh(theta);
-    const double sh2 = std::sinh(0.5 * theta);
-    w = 2.0 * sh2 * sh2;
-    sh = sh2;
-    const double q = std::sinh(0.25 * theta);
-    vh = -2.0 * q * q;
-  }
-  const cga::Bivector4 e = unitBlade(k);
-  const cga::Bivector4 X = cga::commutator(e, L, sigma);
-  const cga::Bivector4 Y = cga::commutator(e, X, sigma);
-  for (int j = 0; j < 6; ++j) L[j] = L[j] + (s * X[j] + w * Y[j]);
-  cga::Rotor4 eR;
-  eR.c = {0, 0, 0, 0, 0, 0, 0, 0};
-  eR.c[k + 1] = 1.0;
-  const cga::Rotor4 pe = cga::multiply(psi, eR, sigma);
-  for (int j = 0; j < 8; ++j) psi.c[j] = psi.c[j] - (vh * psi.c[j] + sh * pe.c[j]);
+  Pieces p;
+  for (int m = 0; m < 6; ++m) p.L[m] = L[m];
+  for (int m = 0; m < 8; ++m) p.psi[m] = psi.c[m];
+  planePiece(cga::bladeAction(k, sigma), cga::bladeSquare(k, sigma) < 0, I.planeMoments()[k],
+             k < 3 ? 1.0 : sigma, k, tau, p);
+  for (int m = 0; m < 6; ++m) L[m] = p.L[m];
+  for (int m = 0; m < 8; ++m) psi.c[m] = p.psi[m];
 }
 
 void CurvedSplittingIntegrator::step(const CurvedInertia& I, const CurvedLoads& loads, double h,
                                      CurvedBodyState& s) {
   const bool kicks = !loads.empty();
   if (kicks) kick(I, loads, 0.5 * h, s);
-  cga::Bivector4 L = I.momentum(s.omega_B);
-  const double h2 = 0.5 * h;
+  const int sigma = I.sigma();
+  const cga::Bivector4 L0 = I.momentum(s.omega_B);
+  Pieces p;
+  for (int m = 0; m < 6; ++m) p.L[m] = L0[m];
+  for (int m = 0; m < 8; ++m) p.psi[m] = s.psi.c[m];
+  const cga::Bivector4& moments = I.planeMoments();
   // [T14 T24 T34](h/2) R23(h/2) R31(h/2) R12(h) R31(h/2) R23(h/2) [T34 T24 T14](h/2)
   static constexpr int kPlane[11] = {3, 4, 5, 0, 1, 2, 1, 0, 5, 4, 3};
-  for (int i = 0; i < 11; ++i) curvedPlanePiece(I, kPlane[i], i == 5 ? h : h2, s.psi, L);
+  const double h2 = 0.5 * h;
+  for (int i = 0; i < 11; ++i) {
+    const int k = kPlane[i];
+    planePiece(cga::bladeAction(k, sigma), cga::bladeSquare(k, sigma) < 0, moments[k],
+               k < 3 ? 1.0 : sigma, k, i == 5 ? h : h2, p);
+  }
+  cga::Bivector4 L;
+  for (int m = 0; m < 6; ++m) L[m] = p.L[m];
+  for (int m = 0; m < 8; ++m) s.psi.c[m] = p.psi[m];
   s.omega_B = I.velocity(L);
   if (kicks) kick(I, loads, 0.5 * h, s);
 }

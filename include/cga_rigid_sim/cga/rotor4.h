@@ -66,6 +66,19 @@ Rotor4 expBlade(int k, double theta, int sigma);
 /// e_ab² for the basis bivector of storage index k (0..5): −1, except e_i4² = −σ.
 inline int bladeSquare(int k, int sigma) { return k < 3 ? -1 : -sigma; }
 
+/// The actions of one basis bivector e_k (storage index k of Bivector4) as signed permutations,
+/// for the hot path of the splitting integrator (derived from the product table):
+///   right product:  (ψ e_k).c[m] = rightSign[m] · ψ.c[rightIndex[m]]  (m = 0..7);
+///   commutator:     (e_k × L)[m] = bracketSign[m] · L[bracketIndex[m]] (m = 0..5; sign 0 on the
+///                   components that commute with e_k: e_k itself and its complementary plane).
+struct BladeAction {
+  int rightIndex[8];
+  double rightSign[8];
+  int bracketIndex[6];
+  double bracketSign[6];
+};
+const BladeAction& bladeAction(int k, int sigma);
+
 /// The commutator product A × B = ½(AB − BA) of two bivectors (the Lie bracket of so(4) or
 /// so(3,1); again a bivector).
 Bivector4 commutator(const Bivector4& A, const Bivector4& B, int sigma);
