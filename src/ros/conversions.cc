@@ -273,6 +273,25 @@ cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumR
                     toMomentumMsg);
 }
 
+cga_rigid_sim::CurvedMomentumArray toCurvedMomentumArrayMsg(
+    const std::vector<sim::CurvedMomentumReport>& reports, double curvature_radius,
+    const ::ros::Time& stamp, const std::string& world_frame) {
+  cga_rigid_sim::CurvedMomentumArray msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = world_frame;
+  msg.curvature_radius = curvature_radius;
+  msg.bodies.reserve(reports.size());
+  for (const sim::CurvedMomentumReport& r : reports) {
+    cga_rigid_sim::CurvedMomentum m;
+    m.body = r.body;
+    const auto c = r.L_W.coefficients();  // e23, e31, e12, e14, e24, e34
+    std::copy(c.begin(), c.end(), m.world_momentum.begin());
+    m.kinetic_energy = r.kinetic_energy;
+    msg.bodies.push_back(std::move(m));
+  }
+  return msg;
+}
+
 cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
   cga_rigid_sim::BodyState m;
   m.name = r.name;

@@ -329,7 +329,7 @@ const std::vector<std::string>& knownPrivateParams() {
   static const std::vector<std::string> kNames = {
       "urdf_file", "initial_state", "integrator", "dt", "gravity", "real_time_factor",
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
-      "max_impulse", "relax_inertia", "threads",
+      "max_impulse", "relax_inertia", "threads", "curvature",
       // contacts
       "ground_plane", "contact_mu", "contact_restitution",
       // ~markers (README "Seeing the simulation")
@@ -425,6 +425,12 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   p.scene.triangle_policy = relax_inertia ? dynamics::TrianglePolicy::kNearestPhysical
                                           : dynamics::TrianglePolicy::kRefuse;
   CGA_RIGID_SIM_READ(readGroundPlane(pnh, &p.world.ground_plane));
+  // ~curvature: the radius R of curved space, m (doc/curved_space.md); unset = Euclidean. Its
+  // range (finite, nonzero) and what it needs (gravity off, free bodies) the core checks.
+  double curvature = 0.0;
+  auto has_curvature = readNumber(pnh, "curvature", &curvature, "50.0");
+  if (!has_curvature) return Error{has_curvature.error()};
+  if (*has_curvature) p.world.curvature = curvature;
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu, "0.5"));
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution, "0.0"));
   XmlRpcValue initial_state;

@@ -76,6 +76,20 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
            formatNumber(config.contact_mu).c_str(),
            formatNumber(config.contact_restitution).c_str());
 
+  if (config.curvature) {
+    const double R = *config.curvature;
+    ROS_INFO(
+        "simulator: curved space, %s of radius %s m (~curvature); free bodies move 1 up "
+        "(doc/curved_space.md). tf shows them in the stereographic chart from the antipode of "
+        "the origin%s: conformal (angles and orientations true), lengths %s away from the origin "
+        "by 1/(1 + K|x|^2/4), K = %s 1/m^2; 4-d momenta on ~curved_momentum",
+        R > 0 ? "3-sphere" : "hyperbolic space", formatNumber(std::abs(R)).c_str(),
+        R > 0 ? "" : " (the Poincare ball of radius 2|R|)", R > 0 ? "overstated" : "understated",
+        formatNumber((R > 0 ? 1.0 : -1.0) / (R * R)).c_str());
+    curved_momentum_pub_ =
+        pnh_.advertise<cga_rigid_sim::CurvedMomentumArray>("curved_momentum", kOutputQueueSize);
+  }
+
   // tf and /clock keep their global names (remappable as usual); the rest is private.
   tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", kOutputQueueSize);
   tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
@@ -209,6 +223,9 @@ void Simulator::publishOutputs() {
   }
   if (momentum_pub_.getNumSubscribers() > 0)
     momentum_pub_.publish(toMomentumArrayMsg(world_->momentum(), stamp, world_frame));
+  if (world_->config().curvature && curved_momentum_pub_.getNumSubscribers() > 0)
+    curved_momentum_pub_.publish(toCurvedMomentumArrayMsg(
+        world_->curvedMomentum(), *world_->config().curvature, stamp, world_frame));
   if (body_states_pub_.getNumSubscribers() > 0)
     body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
   if (contacts_pub_.getNumSubscribers() > 0)

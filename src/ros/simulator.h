@@ -136,6 +136,7 @@ class Simulator {
 
   ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
   ::ros::Publisher momentum_pub_, body_states_pub_, contacts_pub_, rejected_pub_;
+  ::ros::Publisher curved_momentum_pub_;  ///< only with ~curvature (doc/curved_space.md)
   ::ros::Publisher joint_states_pub_;
   ::ros::Publisher markers_pub_;  ///< ~markers for rviz (markers.h), built only when subscribed
   MarkerReferences marker_refs_;  ///< the arrows' scales in use (grow with the motion seen)

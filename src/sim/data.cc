@@ -1,16 +1,25 @@
 // makeData: the changing part of a World at its initial state.
 #include "cga_rigid_sim/sim/data.h"
 
+#include "curved_bodies.h"
+
 namespace cga_rigid_sim {
 namespace sim {
 
-Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyState& initial) {
-  auto integrator = dynamics::makeIntegrator(model.config.integrator);
+Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyState& initial,
+                                    int moving_index) {
+  // In curved space the Euclidean integrator is never stepped (sim/curved_bodies.h): a cga2
+  // stands in for it so that nothing holds a null integrator.
+  auto integrator = dynamics::makeIntegrator(model.curved_space ? "cga2" : model.config.integrator);
   if (!integrator) return Error("config", "integrator", integrator.error());
   MovingBodyData b;
   b.state = initial;
   b.integrator = std::move(integrator.value());
   b.loads.setGravity(model.scene.gravity_W);
+  if (model.curved_space) {
+    if (moving_index < 0) return Error("config", "curvature", "a body without its moving index");
+    if (auto e = makeCurvedBodyData(model, moving_index, initial, b)) return *e;
+  }
   return b;
 }
 
@@ -49,7 +58,7 @@ Result<Data> makeData(const Model& model) {
   const int n = static_cast<int>(model.moving.size());
   data.bodies.reserve(n);
   for (int i = 0; i < n; ++i) {
-    auto b = makeBodyData(model, model.moving[i].initial);
+    auto b = makeBodyData(model, model.moving[i].initial, i);
     if (!b) return b.failure();
     data.bodies.push_back(std::move(b.value()));
   }

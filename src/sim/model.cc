@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "cga_rigid_sim/dynamics/integrator.h"
+#include "curved_bodies.h"
 #include "input_rules.h"
 #include "tree_compile.h"
 
@@ -35,7 +36,8 @@ int appendBody(Model& model, scene::BodyModel body) {
     model.moving_of_body.push_back(static_cast<int>(model.moving.size()));
     model.tree_of_moving.push_back(-1);
     model.tree_body_of_moving.push_back(-1);
-    model.moving.push_back({j, *body.inertia, dynamics::BodyState{body.M_WB0, body.omega_B0}});
+    model.moving.push_back(
+        {j, *body.inertia, dynamics::BodyState{body.M_WB0, body.omega_B0}, std::nullopt});
   }
   model.scene.bodies.push_back(std::move(body));
   return j;
@@ -85,6 +87,7 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
       return e;
   }
   // An unknown integrator is refused even when there is no moving body.
+  if (config.curvature) return checkCurvedConfig(config);
   auto integ = dynamics::makeIntegrator(config.integrator);
   if (!integ) return Error("config", "integrator", integ.error());
   return std::nullopt;
@@ -133,6 +136,8 @@ Result<Model> compileModel(scene::Scene scene, const WorldConfig& config) {
     appendBody(model, std::move(bodies[j]));
   }
   if (auto e = compileTrees(model)) return *e;
+  if (config.curvature)
+    if (auto e = compileCurvedBodies(model)) return *e;
   return model;
 }
 

@@ -2,6 +2,7 @@
 // then the clock advances.
 #include "cga_rigid_sim/dynamics/at_rest.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "curved_bodies.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -22,6 +23,10 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i) {
     MovingBodyData& b = data.bodies[i];
     if (model.tree_of_moving[i] >= 0) continue;  // moved by its tree (stage_trees.cc)
+    if (model.curved_space) {                    // curved space: 1 up (curved_bodies.h)
+      stepCurvedBody(model, static_cast<int>(i), b);
+      continue;
+    }
     if (b.contact_step == MovingBodyData::ContactStep::kDone) {
       b.contact_step = MovingBodyData::ContactStep::kNone;
       b.last_path = StepPath::kStepped;

@@ -64,7 +64,7 @@ void resetBodies(const Model& model, Data& data) {
   // Remade, not patched: a per-body datum added to MovingBodyData is reset with it.
   // (makeBodyData fails only for an unknown integrator, which compileModel refused.)
   for (std::size_t i = 0; i < data.bodies.size(); ++i)
-    if (auto b = makeBodyData(model, model.moving[i].initial))
+    if (auto b = makeBodyData(model, model.moving[i].initial, static_cast<int>(i)))
       data.bodies[i] = std::move(b.value());
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t)
     if (auto td = makeTreeData(model, t)) {

@@ -9,6 +9,7 @@
 #include "cga_rigid_sim/sim/stages.h"
 #include "cga_rigid_sim/sim/worker_pool.h"
 #include "contact_detection.h"
+#include "curved_bodies.h"
 #include "input_admission.h"
 #include "joint_efforts.h"
 #include "state_edit.h"
@@ -48,7 +49,7 @@ void World::step() {
   applyDueInputs(m, d);
   updateLoads(m, d);
   loadTrees(m, d);
-  solveContacts(m, d);
+  if (!m.curved_space) solveContacts(m, d);  // no contacts in curved space (curved_bodies.h)
   integrateTrees(m, d);
   integrateBodies(m, d, impl_->pool.get());
   expireInputs(m, d);
@@ -59,12 +60,14 @@ void World::step(std::uint64_t n) {
 }
 
 Result<bool> World::applyWrench(const WrenchInput& in) {
+  if (auto e = refuseInCurvedSpace(impl_->model, "apply_wrench")) return *e;
   auto q = admitWrench(impl_->model, impl_->data, in);
   if (!q) return q.failure();
   return enqueue(impl_->model, impl_->data, *q, "apply_wrench");
 }
 
 Result<bool> World::applyImpulse(const ImpulseInput& in) {
+  if (auto e = refuseInCurvedSpace(impl_->model, "apply_impulse")) return *e;
   auto q = admitImpulse(impl_->model, impl_->data, in);
   if (!q) return q.failure();
   return enqueue(impl_->model, impl_->data, *q, "apply_impulse");
@@ -87,6 +90,7 @@ Result<BodyStateReport> World::getBodyState(const std::string& body) const {
 Result<bool> World::setBodyState(const std::string& body, const Eigen::Isometry3d& pose_root,
                                  const Eigen::Vector3d& linear_velocity_W,
                                  const Eigen::Vector3d& angular_velocity_W) {
+  if (auto e = refuseInCurvedSpace(impl_->model, "set_body_state")) return *e;
   return sim::setBodyState(impl_->model, impl_->data, body, pose_root, linear_velocity_W,
                            angular_velocity_W);
 }
@@ -94,6 +98,7 @@ Result<bool> World::setBodyState(const std::string& body, const Eigen::Isometry3
 Result<bool> World::spawnUrdf(const std::string& name, const std::string& urdf,
                               const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& linear_W,
                               const Eigen::Vector3d& angular_W) {
+  if (auto e = refuseInCurvedSpace(impl_->model, "spawn_urdf")) return *e;
   return sim::spawnUrdf(impl_->model, impl_->data, name, urdf, pose_root, linear_W, angular_W);
 }
 
@@ -158,6 +163,10 @@ std::vector<FramePose> World::movingFrames() const {
 }
 std::vector<FramePose> World::staticFrames() const { return sim::staticFrames(impl_->model); }
 std::string World::summary() const { return worldSummary(impl_->model, impl_->data); }
+
+std::vector<CurvedMomentumReport> World::curvedMomentum() const {
+  return curvedMomentumReports(impl_->model, impl_->data);
+}
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -93,6 +93,7 @@ class InterfaceTest(unittest.TestCase):
         self.assertTrue('## The simulator node' in readme,
                         'README.md has no section "## The simulator node"')
         names = (list(self.manifest['publishes']) + list(self.manifest['publishes_with_joints']) +
+                 list(self.manifest['publishes_with_curvature']) +
                  list(self.manifest['subscribes']) + list(self.manifest['services']) +
                  list(self.manifest['parameters']))
         missing = [n for n in names if n.lstrip('~') not in readme]

@@ -17,6 +17,7 @@
 #include <cga_rigid_sim/CgaWrench.h>
 #include <cga_rigid_sim/Contact.h>
 #include <cga_rigid_sim/ContactArray.h>
+#include <cga_rigid_sim/CurvedMomentumArray.h>
 #include <cga_rigid_sim/Momentum.h>
 #include <cga_rigid_sim/MomentumArray.h>
 #include <geometry_msgs/Point.h>
@@ -118,6 +119,10 @@ cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r);
 cga_rigid_sim::MomentumArray toMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports,
                                                 const ::ros::Time& stamp,
                                                 const std::string& world_frame);
+/// Curved space: the 4-d momenta (World::curvedMomentum) and the radius R.
+cga_rigid_sim::CurvedMomentumArray toCurvedMomentumArrayMsg(
+    const std::vector<sim::CurvedMomentumReport>& reports, double curvature_radius,
+    const ::ros::Time& stamp, const std::string& world_frame);
 /// Pose, CoM, twist (world axes) and the blade coefficients of M_WB and Ω_B.
 cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r);
 cga_rigid_sim::BodyStateArray toBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/curved_integrator.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/loads.h"
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
@@ -54,6 +55,10 @@ struct MovingBodyData {
   /// plane when every contact of the body shares one normal, so its sliding is trapezoidal
   /// (doc/contacts.md#time-stepping); zero otherwise.
   Eigen::Vector3d contact_shift_W = Eigen::Vector3d::Zero();
+  /// Curved space only: the 1-up state (ψ, Ω_B) and its integrator; `state` then mirrors it in
+  /// the chart after every step (sim/curved_bodies.h).
+  dynamics::CurvedBodyState curved_state;
+  std::unique_ptr<dynamics::CurvedIntegrator> curved_integrator;
 };
 
 struct ContactScratch;  // the contacts stage's geometry and arrays (src/sim/contact_scratch.h)
@@ -131,8 +136,10 @@ Result<TreeData> makeTreeData(const Model& model, int t);
 void writeTreeBodies(const Model& model, Data& data, int t);
 
 /// The data of a moving body at state `initial`: a fresh integrator, gravity as its only load.
-/// Fails only for an unknown integrator name (compileModel has checked it).
-Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyState& initial);
+/// Fails only for an unknown integrator name (compileModel has checked it) and, in curved space
+/// (which needs the body's moving index), for an initial position outside the chart.
+Result<MovingBodyData> makeBodyData(const Model& model, const dynamics::BodyState& initial,
+                                    int moving_index = -1);
 /// The Data of a new World: every moving body at its initial state, time 0, nothing queued.
 Result<Data> makeData(const Model& model);
 

@@ -15,12 +15,14 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/dynamics/curved_inertia.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
@@ -34,6 +36,8 @@ struct MovingBody {
   int body = -1;                ///< its body index j (scene.bodies)
   dynamics::Inertia inertia;    ///< mass and principal moments, frame B
   dynamics::BodyState initial;  ///< the state reset() returns to
+  /// Curved space only (config.curvature): its 1-up inertia (doc/curved_space.md#inertia).
+  std::optional<dynamics::CurvedInertia> curved_inertia;
 };
 
 /// An articulated tree (doc/articulated.md): its dynamics model and where its bodies are. Every
@@ -53,6 +57,8 @@ struct TreeModel {
 
 struct Model {
   WorldConfig config;
+  /// Set when config.curvature is (sim/curved_bodies.h).
+  std::optional<dynamics::CurvedSpace> curved_space;
   double lambda = 1.0;  ///< CGA length scale, m (the scene's)
   scene::Scene scene;   ///< every body: names, links (M_BL), static poses, initial states
 

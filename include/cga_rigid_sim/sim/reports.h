@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/cga/bivector4.h"
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
@@ -51,6 +52,15 @@ struct ContactReport {
 };
 
 /// A body's state as users see it (world axes).
+/// Curved space (WorldConfig::curvature): one moving body's (or the total's, body "total")
+/// 4-d world momentum L_W = ψ L_B ψ̃ (six coefficients e23, e31, e12, e14, e24, e34;
+/// doc/curved_space.md#equation-of-motion) and kinetic energy; both conserved torque-free.
+struct CurvedMomentumReport {
+  std::string body;
+  cga::Bivector4 L_W;           ///< kg m²/s
+  double kinetic_energy = 0.0;  ///< J
+};
+
 struct BodyStateReport {
   std::string name;
   Eigen::Isometry3d pose_root = Eigen::Isometry3d::Identity();  ///< root link frame in world

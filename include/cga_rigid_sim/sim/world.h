@@ -147,6 +147,11 @@ class World {
   std::vector<MomentumReport> momentum() const;
   /// Every moving body.
   std::vector<BodyStateReport> bodyStates() const;
+  /// Curved space (config.curvature): per moving body (scene order), then the total "total",
+  /// the 4-d world momentum and the kinetic energy (conserved); empty in Euclidean space. There
+  /// momentum() and bodyStates() read the chart pose and true velocities
+  /// (doc/curved_space.md#the-chart), whose Euclidean momenta are not conserved.
+  std::vector<CurvedMomentumReport> curvedMomentum() const;
   /// The contacts of the last step (doc/contacts.md).
   std::vector<ContactReport> contacts() const;
   /// world_frame → root link of every moving body (changes every step).

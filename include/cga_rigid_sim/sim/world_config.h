@@ -63,6 +63,12 @@ struct WorldConfig {
   /// in all ~0.2 ms, a fifth of a real-time step at dt = 1 ms (README "Limits and bounds").
   int max_active_wrenches = 1000;
   int max_active_wrenches_per_body = 64;
+  /// Curved space (the node's ~curvature; doc/curved_space.md): the radius R, m, of a space of
+  /// constant curvature, > 0 the 3-sphere, < 0 hyperbolic space; unset = Euclidean space. The
+  /// bodies then move "1 up" (dynamics/curved_integrator.h) and are reported in the
+  /// stereographic chart. Free bodies only, with gravity off; integrators auto, curved2,
+  /// curved_exact; no contacts, wrenches, impulses, state edits or spawning yet.
+  std::optional<double> curvature;
 };
 
 }  // namespace sim
