@@ -16,6 +16,7 @@
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "joint_rows.h"
+#include "tree_integrator_residual.h"
 #include "tree_integrators.h"
 #include "tree_math.h"
 
@@ -189,15 +190,26 @@ class Midpoint final : public TreeIntegrator {
     double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
     // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
     // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
+    // A fixed base under gravity alone (the common case) takes the fused passes of
+    // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
+    const bool fused = MidpointResidual::applies(tree, loads);
+    if (fused) {
+      residual_.prepare(tree);
+      residual_.startAt(state.q);
+    }
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
-      mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
-      setVelocityVector(tree, nu_bar_, mid_);
-      if (tree.floating())
-        mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
-      treeKinematics(tree, mid_, kin_);
-      externalMoments(tree, kin_, loads, f_ext_);
-      momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+      if (fused) {
+        residual_.evaluate(tree, state.q, loads.gravity_W, h, nu_bar_, kin_, f_ext_, pm_, grad_);
+      } else {
+        mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
+        setVelocityVector(tree, nu_bar_, mid_);
+        if (tree.floating())
+          mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
+        treeKinematics(tree, mid_, kin_);
+        externalMoments(tree, kin_, loads, f_ext_);
+        momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+      }
       r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
       for (int k = 0; k < n; ++k)
         r_[tree.velocityIndex(k)] -=
@@ -314,6 +326,7 @@ class Midpoint final : public TreeIntegrator {
   Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_damped_;
   JointRows rows_;
+  MidpointResidual residual_;
 };
 
 }  // namespace
