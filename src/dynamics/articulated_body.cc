@@ -71,6 +71,15 @@ void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKin
   }
 }
 
+void treeVelocities(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
+  kin.omega[0] = tree.floating() ? state.omega_0 : cga::Bivelocity();
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    const int b = k + 1;
+    kin.omega[b] = tree_math::toChild(kin, b, kin.omega[tree.joints()[k].parent]) +
+                   tree.screwInChild(k) * state.v[k];
+  }
+}
+
 Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state) {
   Eigen::VectorXd nu(tree.velocityCount());
   if (tree.floating()) nu.head<6>() = tree_math::vec(state.omega_0);

@@ -41,12 +41,37 @@ constexpr int kMaxHalvings = 10;
 // (the libFuzzer world-inputs target found such a stall, fuzz/findings/).
 constexpr int kMaxAttemptsPerStep = 64;
 
+// x ← A⁻¹ x with the Cholesky factor L of A (A = L Lᵀ, in llt's lower triangle, column-major):
+// the two triangular solves on scalars, column by column (Eigen's dynamic-size solves cost 5×
+// as much on the few coordinates of a tree).
+void solveInPlace(const Eigen::LLT<Eigen::MatrixXd>& llt, Eigen::VectorXd& x) {
+  const Eigen::MatrixXd& L = llt.matrixLLT();
+  const int n = static_cast<int>(x.size());
+  double* v = x.data();
+  for (int j = 0; j < n; ++j) {  // L y = x
+    const double* col = L.data() + static_cast<std::ptrdiff_t>(j) * n;
+    const double y = v[j] / col[j];
+    v[j] = y;
+    for (int i = j + 1; i < n; ++i) v[i] -= col[i] * y;
+  }
+  for (int i = n - 1; i >= 0; --i) {  // Lᵀ z = y
+    const double* col = L.data() + static_cast<std::ptrdiff_t>(i) * n;
+    double sum = v[i];
+    for (int j = i + 1; j < n; ++j) sum -= col[j] * v[j];
+    v[i] = sum / col[i];
+  }
+}
+
 class Midpoint final : public TreeIntegrator {
  public:
   explicit Midpoint(bool fourth_order) : fourth_order_(fourth_order) {}
   const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
-  void reset() override { cached_ = false; }
+  void reset() override {
+    cached_ = false;
+    kin_at_state_ = false;
+  }
   int lastIterations() const override { return iterations_; }
+  const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
@@ -155,6 +180,7 @@ class Midpoint final : public TreeIntegrator {
   bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
     const int n = tree.jointCount(), nv = tree.velocityCount();
     const double lambda = tree.lambda();
+    kin_at_state_ = false;
     const bool fresh = sameAsCached(state);
     if (!fresh) {  // momenta of a state set from outside
       treeKinematics(tree, state, kin_);
@@ -223,7 +249,7 @@ class Midpoint final : public TreeIntegrator {
       // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
       // rows then add the impulses anew.
       nu_new_ = r_;
-      A.solveInPlace(nu_new_);
+      solveInPlace(A, nu_new_);
       nu_new_ += nu_bar_;
       rows_.solve(tree, A, state.q, h, nu_new_);
       rows_.impulses(y_);
@@ -266,7 +292,7 @@ class Midpoint final : public TreeIntegrator {
     rhs_.tail(n) = p_;
     if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
     nu_end_ = rhs_;
-    llt_.solveInPlace(nu_end_);
+    solveInPlace(llt_, nu_end_);
     // A converged iteration can still have found a spurious root of the midpoint equations when
     // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
     // than the loads' work. Such a step is refused and halved. A true step changes T by
@@ -293,6 +319,9 @@ class Midpoint final : public TreeIntegrator {
     prev_bar_ = nu_bar_;
     ++runs_;
     setVelocityVector(tree, nu_end_, state);
+    // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
+    treeVelocities(tree, state, kin_);
+    kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
     cached_ = true;
@@ -316,6 +345,7 @@ class Midpoint final : public TreeIntegrator {
   bool slots_sized_ = false;
   double T_ = 0.0;             // kinetic energy of the state the integrator produced
   bool mass_at_last_ = false;  // M_ and llt_ are M at the pose of last_
+  bool kin_at_state_ = false;  // kin_ is the kinematics of the state the last substep produced
   int runs_ = 0;               // consecutive steps of the same h, for the extrapolation
   Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_,
       nu_end_, rhs_;

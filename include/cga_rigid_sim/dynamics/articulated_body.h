@@ -114,6 +114,9 @@ struct TreeKinematics {
 
 /// Poses and velocities of every body at `state`.
 void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
+/// Only the velocities (kin.omega) at `state`, into a `kin` that already holds the poses of
+/// state's positions: what treeKinematics gives after a change of the rates alone.
+void treeVelocities(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
 
 /// Generalized velocity ν of a state, and back.
 Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state);
