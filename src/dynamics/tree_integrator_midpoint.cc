@@ -145,7 +145,7 @@ class Midpoint final : public TreeIntegrator {
     bool cached;
     double last_h, T;
     int runs;
-    Eigen::VectorXd p, guess, prev_bar, prev_bar2;
+    Eigen::VectorXd p, guess, prev_bar, prev_bar2, prev_bar3;
     cga::Moment Pi;
   };
   void save(const TreeState& s, Saved& v) const {
@@ -159,6 +159,7 @@ class Midpoint final : public TreeIntegrator {
     v.guess = guess_;
     v.prev_bar = prev_bar_;
     v.prev_bar2 = prev_bar2_;
+    v.prev_bar3 = prev_bar3_;
     v.Pi = Pi_;
   }
   void restore(const Saved& v, TreeState& s) {
@@ -173,6 +174,7 @@ class Midpoint final : public TreeIntegrator {
     guess_ = v.guess;
     prev_bar_ = v.prev_bar;
     prev_bar2_ = v.prev_bar2;
+    prev_bar3_ = v.prev_bar3;
     Pi_ = v.Pi;
   }
 
@@ -188,6 +190,7 @@ class Midpoint final : public TreeIntegrator {
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
       prev_bar_.resize(nv);  // sized now, so the steps after this one do not allocate
       prev_bar2_.resize(nv);
+      prev_bar3_.resize(nv);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
@@ -310,11 +313,14 @@ class Midpoint final : public TreeIntegrator {
     // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
     // same h (error O(h³)), else from ν(t + h) and ν̄.
     if (!extrapolated) runs_ = 0;  // this step starts a run of equal steps
-    if (runs_ >= 2) {
+    if (runs_ >= 3) {
+      guess_ = 4.0 * (nu_bar_ + prev_bar2_) - 6.0 * prev_bar_ - prev_bar3_;
+    } else if (runs_ >= 2) {
       guess_ = 3.0 * nu_bar_ - 3.0 * prev_bar_ + prev_bar2_;
     } else {
       guess_ = 2.0 * nu_end_ - nu_bar_;
     }
+    prev_bar3_.swap(prev_bar2_);
     prev_bar2_.swap(prev_bar_);
     prev_bar_ = nu_bar_;
     ++runs_;
@@ -347,8 +353,8 @@ class Midpoint final : public TreeIntegrator {
   bool mass_at_last_ = false;  // M_ and llt_ are M at the pose of last_
   bool kin_at_state_ = false;  // kin_ is the kinematics of the state the last substep produced
   int runs_ = 0;               // consecutive steps of the same h, for the extrapolation
-  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_,
-      nu_end_, rhs_;
+  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, prev_bar3_, pm_, grad_, r_, y_, nu_bar_,
+      nu_new_, nu_end_, rhs_;
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;
