@@ -10,7 +10,6 @@
 //   and ν at the new pose from M(q) ν = (M_W0⁻¹ Π, p).
 // For a fixed base this is the implicit midpoint rule on the canonical (q, p): symplectic. W is
 // the external wrench about the world origin (gravity, applied loads): Π changes by it alone.
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
@@ -40,27 +39,6 @@ constexpr int kMaxHalvings = 10;
 // ~kMaxAttemptsPerStep·kMaxIterations iterations per step instead of 2^(kMaxHalvings+1) attempts
 // (the libFuzzer world-inputs target found such a stall, fuzz/findings/).
 constexpr int kMaxAttemptsPerStep = 64;
-
-// x ← A⁻¹ x with the Cholesky factor L of A (A = L Lᵀ, in llt's lower triangle, column-major):
-// the two triangular solves on scalars, column by column (Eigen's dynamic-size solves cost 5×
-// as much on the few coordinates of a tree).
-void solveInPlace(const Eigen::LLT<Eigen::MatrixXd>& llt, Eigen::VectorXd& x) {
-  const Eigen::MatrixXd& L = llt.matrixLLT();
-  const int n = static_cast<int>(x.size());
-  double* v = x.data();
-  for (int j = 0; j < n; ++j) {  // L y = x
-    const double* col = L.data() + static_cast<std::ptrdiff_t>(j) * n;
-    const double y = v[j] / col[j];
-    v[j] = y;
-    for (int i = j + 1; i < n; ++i) v[i] -= col[i] * y;
-  }
-  for (int i = n - 1; i >= 0; --i) {  // Lᵀ z = y
-    const double* col = L.data() + static_cast<std::ptrdiff_t>(i) * n;
-    double sum = v[i];
-    for (int j = i + 1; j < n; ++j) sum -= col[j] * v[j];
-    v[i] = sum / col[i];
-  }
-}
 
 class Midpoint final : public TreeIntegrator {
  public:
@@ -101,7 +79,7 @@ class Midpoint final : public TreeIntegrator {
   }
   // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
   // rows; M's own factor when no joint is damped.
-  const Eigen::LLT<Eigen::MatrixXd>& iterationMatrix(const ArticulatedBody& tree, double h) {
+  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h) {
     bool damped = false;
     for (const TreeJoint& j : tree.joints()) damped = damped || j.damping != 0.0;
     if (!damped) return llt_;
@@ -188,7 +166,8 @@ class Midpoint final : public TreeIntegrator {
       treeKinematics(tree, state, kin_);
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
-      prev_bar_.resize(nv);  // sized now, so the steps after this one do not allocate
+      f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
+      prev_bar_.resize(nv);
       prev_bar2_.resize(nv);
       prev_bar3_.resize(nv);
       p_ = pm_.tail(n);
@@ -211,7 +190,7 @@ class Midpoint final : public TreeIntegrator {
       treeKinematics(tree, state, kin_);
       factorMass(tree);
     }
-    const Eigen::LLT<Eigen::MatrixXd>& A = iterationMatrix(tree, h);
+    const tree_math::Cholesky& A = iterationMatrix(tree, h);
     y_.setZero(nv);
     r_.resize(nv);
     mid_ = state;
@@ -222,6 +201,7 @@ class Midpoint final : public TreeIntegrator {
     // A fixed base under gravity alone (the common case) takes the fused passes of
     // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
     const bool fused = MidpointResidual::applies(tree, loads);
+    double load_power = 0.0;  // of the external moments at the midpoint
     if (fused) {
       residual_.prepare(tree);
       residual_.startAt(state.q);
@@ -229,7 +209,7 @@ class Midpoint final : public TreeIntegrator {
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
       if (fused) {
-        residual_.evaluate(tree, state.q, loads.gravity_W, h, nu_bar_, kin_, f_ext_, pm_, grad_);
+        load_power = residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
       } else {
         mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
         setVelocityVector(tree, nu_bar_, mid_);
@@ -252,7 +232,7 @@ class Midpoint final : public TreeIntegrator {
       // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
       // rows then add the impulses anew.
       nu_new_ = r_;
-      solveInPlace(A, nu_new_);
+      A.solveInPlace(nu_new_);
       nu_new_ += nu_bar_;
       rows_.solve(tree, A, state.q, h, nu_new_);
       rows_.impulses(y_);
@@ -270,10 +250,12 @@ class Midpoint final : public TreeIntegrator {
       last_change = change;
     }
     if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
-    // The power of the loads and efforts at the midpoint (kin_ holds it), for the energy check.
-    double power = loads.effort.dot(nu_bar_.tail(n));
-    for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
-      power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+    // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
+    // the energy check.
+    if (!fused)
+      for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+        load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+    const double power = load_power + loads.effort.dot(nu_bar_.tail(n));
     const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
@@ -295,7 +277,7 @@ class Midpoint final : public TreeIntegrator {
     rhs_.tail(n) = p_;
     if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
     nu_end_ = rhs_;
-    solveInPlace(llt_, nu_end_);
+    llt_.solveInPlace(nu_end_);
     // A converged iteration can still have found a spurious root of the midpoint equations when
     // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
     // than the loads' work. Such a step is refused and halved. A true step changes T by
@@ -360,7 +342,7 @@ class Midpoint final : public TreeIntegrator {
   TreeKinematics kin_;
   BodyMoments f_ext_, zeros_;
   Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
-  Eigen::LLT<Eigen::MatrixXd> llt_, llt_damped_;
+  tree_math::Cholesky llt_, llt_damped_;
   JointRows rows_;
   MidpointResidual residual_;
 };

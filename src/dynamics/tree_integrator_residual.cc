@@ -10,13 +10,17 @@ namespace dynamics {
 namespace {
 
 // sin x and cos x for |x| ≤ 1/16 from their Taylor polynomials: the first omitted terms,
-// x¹¹/11! and x¹²/12!, are below 2e-20 |x| and 8e-24, far under an ulp.
+// x¹¹/11! and x¹²/12!, are below 2e-20 |x| and 8e-24, far under an ulp (and so is the rounding
+// of the coefficients, which multiply terms below 7e-4 |x|). No divisions: they would lengthen
+// the pass's dependent chains.
 constexpr double kSmallAngle = 1.0 / 16.0;
 inline void smallSinCos(double x, double& s, double& c) {
+  constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880;
+  constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320,
+                   c10 = -1.0 / 3628800;
   const double x2 = x * x;
-  s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-  c = 1.0 -
-      x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0))));
+  s = x + x * x2 * (s3 + x2 * (s5 + x2 * (s7 + x2 * s9)));
+  c = 1.0 + x2 * (c2 + x2 * (c4 + x2 * (c6 + x2 * (c8 + x2 * c10))));
 }
 
 // y = R x and y = Rᵀ x for a row-major 3×3 R.
@@ -39,15 +43,22 @@ inline double dot(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// Adds M_pb T M̃_pb (a trivector of the child carried to the parent, tree_math::toParent) to Tp.
-inline void addToParent(const double* R, const double* t, const double* T, double* Tp) {
-  double F[3], RT[3], tF[3];
-  mul(R, T + 3, F);
-  mul(R, T, RT);
-  cross(t, F, tF);
+// Adds M_pb T M̃_pb (a trivector of the child carried to the parent, tree_math::toParent) to
+// the parent's, for the two trivectors H and F at once.
+inline void addToParent(const double* R, const double* t, const double* H, const double* F,
+                        double* Hp, double* Fp) {
+  double RHf[3], RH[3], RFf[3], RF[3], tH[3], tF[3];
+  mul(R, H + 3, RHf);
+  mul(R, H, RH);
+  mul(R, F + 3, RFf);
+  mul(R, F, RF);
+  cross(t, RHf, tH);
+  cross(t, RFf, tF);
   for (int i = 0; i < 3; ++i) {
-    Tp[i] += RT[i] + tF[i];
-    Tp[i + 3] += F[i];
+    Hp[i] += RH[i] + tH[i];
+    Hp[i + 3] += RHf[i];
+    Fp[i] += RF[i] + tF[i];
+    Fp[i + 3] += RFf[i];
   }
 }
 
@@ -123,27 +134,28 @@ void MidpointResidual::startAt(const Eigen::VectorXd& q) {
   }
 }
 
-void MidpointResidual::evaluate(const ArticulatedBody&, const Eigen::VectorXd& q,
-                                const Eigen::Vector3d& g_W, double h, const Eigen::VectorXd& nu_bar,
-                                TreeKinematics& kin, BodyMoments& f_ext, Eigen::VectorXd& p,
-                                Eigen::VectorXd& gradient) {
+double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
+                                  Eigen::VectorXd& gradient) {
   const int n = joints_;
-  kin.omega.resize(n + 1);
-  f_ext.resize(n + 1);
   p.resize(n);
   gradient.resize(n);
-  Body& base = body_[0];
-  for (int i = 0; i < 3; ++i) {
-    base.g[i] = g_W[i];
-    base.w[i] = base.u[i] = 0.0;
+  Body* const bodies = body_.data();
+  {
+    Body& base = bodies[0];
+    for (int i = 0; i < 3; ++i) {
+      base.g[i] = g_W[i];
+      base.w[i] = base.u[i] = 0.0;
+    }
   }
-  for (int i = 0; i < 6; ++i) base.H[i] = base.F[i] = 0.0;
-  // Outward: frames, gravity, bivelocities and momenta.
+  double power = 0.0;
+  // Outward: frames, gravity, bivelocities, momenta and the external moments.
   for (int k = 0; k < n; ++k) {
     const Joint& j = joint_[k];
-    Body& b = body_[k + 1];
-    const Body& pa = body_[j.parent];
+    Body& b = bodies[k + 1];
+    const Body& pa = bodies[j.parent];
     const double v = nu_bar[k];
+    double R[9], t[3];
     if (j.revolute) {
       // sin, cos of ½q̄ = ½q + ¼h q̄̇; then sin q̄ = 2 sin cos, 1 − cos q̄ = 2 sin².
       const double x = 0.25 * h * v;
@@ -159,41 +171,50 @@ void MidpointResidual::evaluate(const ArticulatedBody&, const Eigen::VectorXd& q
         ch = std::cos(half);
       }
       const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
-      for (int i = 0; i < 9; ++i) b.R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
       double Rc[3];
-      mul(b.R, j.c, Rc);
-      for (int i = 0; i < 3; ++i) b.t[i] = j.d[i] - Rc[i];
+      mul(R, j.c, Rc);
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
     } else {
       const double qm = q[k] + 0.5 * h * v;
-      for (int i = 0; i < 9; ++i) b.R[i] = j.A[i];
-      for (int i = 0; i < 3; ++i) b.t[i] = j.d[i] + qm * j.c[i];
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] + qm * j.c[i];
     }
     // Ω_b = M_bp Ω_p M̃_bp + q̄̇ s = (Rᵀ w, Rᵀ (u − t × w)) + q̄̇ s; g_b = Rᵀ g_p.
-    double tw[3], ut[3];
-    cross(b.t, pa.w, tw);
-    for (int i = 0; i < 3; ++i) ut[i] = pa.u[i] - tw[i];
-    mulT(b.R, pa.w, b.w);
-    mulT(b.R, ut, b.u);
-    mulT(b.R, pa.g, b.g);
+    double pw[3], pu[3], pg[3], tw[3];
     for (int i = 0; i < 3; ++i) {
-      b.w[i] += v * j.s[i];
-      b.u[i] += v * j.s[i + 3];
-      b.H[i] = j.J[i] * b.w[i];
-      b.H[i + 3] = j.m2 * b.u[i];
-      b.F[i] = 0.0;
-      b.F[i + 3] = j.lm * b.g[i];
+      pw[i] = pa.w[i];
+      pu[i] = pa.u[i];
+      pg[i] = pa.g[i];
     }
-    kin.omega[k + 1] = cga::Bivelocity(Eigen::Vector3d(b.w[0], b.w[1], b.w[2]),
-                                       Eigen::Vector3d(b.u[0], b.u[1], b.u[2]));
-    f_ext[k + 1] = cga::Moment(Eigen::Vector3d::Zero(), Eigen::Vector3d(b.F[3], b.F[4], b.F[5]));
+    cross(t, pw, tw);
+    for (int i = 0; i < 3; ++i) pu[i] -= tw[i];
+    double w[3], u[3], g[3];
+    mulT(R, pw, w);
+    mulT(R, pu, u);
+    mulT(R, pg, g);
+    for (int i = 0; i < 3; ++i) {
+      w[i] += v * j.s[i];
+      u[i] += v * j.s[i + 3];
+    }
+    for (int i = 0; i < 3; ++i) {
+      b.w[i] = w[i];
+      b.u[i] = u[i];
+      b.g[i] = g[i];
+      b.t[i] = t[i];
+      b.H[i] = j.J[i] * w[i];
+      b.H[i + 3] = j.m2 * u[i];
+      b.F[i] = 0.0;
+      b.F[i + 3] = j.lm * g[i];
+    }
+    for (int i = 0; i < 9; ++i) b.R[i] = R[i];
+    power += j.lm * dot(g, u);  // ⟨(0, λ m g_b), Ω_b⟩
   }
-  kin.omega[0] = cga::Bivelocity();
-  f_ext[0] = cga::Moment();
   // Inward: p_k = ⟨H_k, s⟩, ∂L/∂q_k + Q_k = ⟨H_k, s × Ω_b⟩ + ⟨F_k, s⟩ (A7), with
   // s × Ω = commutator(s, Ω) = (−u_s × w, −(u_s × u + m_s × w)).
   for (int k = n - 1; k >= 0; --k) {
     const Joint& j = joint_[k];
-    Body& b = body_[k + 1];
+    const Body& b = bodies[k + 1];
     const double* s = j.s;
     p[k] = dot(b.H, s) + dot(b.H + 3, s + 3);
     double sw[3], su[3], mw[3];
@@ -205,11 +226,11 @@ void MidpointResidual::evaluate(const ArticulatedBody&, const Eigen::VectorXd& q
          b.H[5] * (su[2] + mw[2]);
     gradient[k] = g;
     if (j.parent != 0) {
-      Body& pa = body_[j.parent];
-      addToParent(b.R, b.t, b.H, pa.H);
-      addToParent(b.R, b.t, b.F, pa.F);
+      Body& pa = bodies[j.parent];
+      addToParent(b.R, b.t, b.H, b.F, pa.H, pa.F);
     }
   }
+  return power;
 }
 
 }  // namespace dynamics

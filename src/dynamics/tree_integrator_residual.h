@@ -38,12 +38,11 @@ class MidpointResidual {
   void prepare(const ArticulatedBody& tree);
   /// sin and cos of ½q at the step's start.
   void startAt(const Eigen::VectorXd& q);
-  /// At the midpoint of a step of h from the positions of startAt() with midpoint rates
-  /// q̄̇ = nu_bar: the bivelocities (kin.omega), the gravity moments (f_ext, body frames), the
-  /// joint momenta p and the gradient ∂L/∂q + Q. Sizes are kept: no allocation once sized.
-  void evaluate(const ArticulatedBody& tree, const Eigen::VectorXd& q, const Eigen::Vector3d& g_W,
-                double h, const Eigen::VectorXd& nu_bar, TreeKinematics& kin, BodyMoments& f_ext,
-                Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+  /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
+  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q; returns the power of gravity
+  /// there, Σ ⟨F_b, Ω_b⟩. Sizes are kept: no allocation once sized.
+  double evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
 
  private:
   struct Joint {
