@@ -270,7 +270,7 @@ class Midpoint final : public TreeIntegrator {
           (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
     }
     // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
-    treeKinematics(tree, state, kin_);
+    treePoses(tree, state, kin_);
     factorMass(tree);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
