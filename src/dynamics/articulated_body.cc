@@ -52,11 +52,15 @@ cga::Motor jointMotor(JointKind kind, const cga::Motor& M_PC, const cga::Biveloc
 }  // namespace
 
 void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
+  treePoses(tree, state, kin);
+  treeVelocities(tree, state, kin);
+}
+
+void treePoses(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
   kin.resize(n + 1);
   kin.M_W[0] = tree.floating() ? state.M_W0 : cga::Motor();
-  kin.omega[0] = tree.floating() ? state.omega_0 : cga::Bivelocity();
   for (int k = 0; k < n; ++k) {
     const TreeJoint& j = tree.joints()[k];
     const int b = k + 1, p = j.parent;
@@ -66,8 +70,16 @@ void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKin
     kin.M_W[b] = kin.M_W[p] * M;
     kin.R_P[b] = M.rotation().toRotationMatrix();
     kin.t_P[b] = M.translation(lambda) / lambda;
+  }
+}
+
+void treeVelocities(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin) {
+  kin.omega[0] = tree.floating() ? state.omega_0 : cga::Bivelocity();
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    const int b = k + 1;
     // Ω_b = M_bp Ω_p M̃_bp + q̇ s (doc/articulated.md (A2)).
-    kin.omega[b] = tree_math::toChild(kin, b, kin.omega[p]) + tree.screwInChild(k) * state.v[k];
+    kin.omega[b] = tree_math::toChild(kin, b, kin.omega[tree.joints()[k].parent]) +
+                   tree.screwInChild(k) * state.v[k];
   }
 }
 

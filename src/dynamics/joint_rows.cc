@@ -14,7 +14,7 @@ constexpr double kSweepTolerance = 1e-14;
 constexpr int kMaxSweeps = 100;
 }  // namespace
 
-void JointRows::solve(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
+void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
                       const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar) {
   rows_.clear();
   held_.clear();
@@ -75,7 +75,7 @@ void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) 
   }
 }
 
-bool JointRows::stopHeld(const ArticulatedBody&, const Eigen::LLT<Eigen::MatrixXd>& llt,
+bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
                          Eigen::VectorXd& nu) const {
   const int m = static_cast<int>(held_.size());
   if (m == 0) return false;

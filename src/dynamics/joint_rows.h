@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/articulated_body.h"
+#include "tree_math.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -22,13 +23,13 @@ namespace dynamics {
 class JointRows {
  public:
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
-  void solve(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
-             const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar);
+  void solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt, const Eigen::VectorXd& q,
+             double h, Eigen::VectorXd& nu_bar);
   /// Positions within the limits (removes the round-off of q + h ν̄ at a stop).
   void clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const;
   /// Sets the rates of held joints to zero with the impulse that does it in the metric of M
   /// (llt: M at the new pose). Returns whether anything was held.
-  bool stopHeld(const ArticulatedBody& tree, const Eigen::LLT<Eigen::MatrixXd>& llt,
+  bool stopHeld(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
                 Eigen::VectorXd& nu) const;
   /// The impulses of the last solve as a vector over ν (zero where no row acts).
   void impulses(Eigen::VectorXd& y) const {

@@ -10,12 +10,12 @@
 //   and ν at the new pose from M(q) ν = (M_W0⁻¹ Π, p).
 // For a fixed base this is the implicit midpoint rule on the canonical (q, p): symplectic. W is
 // the external wrench about the world origin (gravity, applied loads): Π changes by it alone.
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "joint_rows.h"
+#include "tree_integrator_residual.h"
 #include "tree_integrators.h"
 #include "tree_math.h"
 
@@ -44,8 +44,12 @@ class Midpoint final : public TreeIntegrator {
  public:
   explicit Midpoint(bool fourth_order) : fourth_order_(fourth_order) {}
   const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
-  void reset() override { cached_ = false; }
+  void reset() override {
+    cached_ = false;
+    kin_at_state_ = false;
+  }
   int lastIterations() const override { return iterations_; }
+  const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
@@ -75,7 +79,7 @@ class Midpoint final : public TreeIntegrator {
   }
   // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
   // rows; M's own factor when no joint is damped.
-  const Eigen::LLT<Eigen::MatrixXd>& iterationMatrix(const ArticulatedBody& tree, double h) {
+  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h) {
     bool damped = false;
     for (const TreeJoint& j : tree.joints()) damped = damped || j.damping != 0.0;
     if (!damped) return llt_;
@@ -119,7 +123,7 @@ class Midpoint final : public TreeIntegrator {
     bool cached;
     double last_h, T;
     int runs;
-    Eigen::VectorXd p, guess, prev_bar, prev_bar2;
+    Eigen::VectorXd p, guess, prev_bar, prev_bar2, prev_bar3;
     cga::Moment Pi;
   };
   void save(const TreeState& s, Saved& v) const {
@@ -133,6 +137,7 @@ class Midpoint final : public TreeIntegrator {
     v.guess = guess_;
     v.prev_bar = prev_bar_;
     v.prev_bar2 = prev_bar2_;
+    v.prev_bar3 = prev_bar3_;
     v.Pi = Pi_;
   }
   void restore(const Saved& v, TreeState& s) {
@@ -147,6 +152,7 @@ class Midpoint final : public TreeIntegrator {
     guess_ = v.guess;
     prev_bar_ = v.prev_bar;
     prev_bar2_ = v.prev_bar2;
+    prev_bar3_ = v.prev_bar3;
     Pi_ = v.Pi;
   }
 
@@ -154,13 +160,16 @@ class Midpoint final : public TreeIntegrator {
   bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
     const int n = tree.jointCount(), nv = tree.velocityCount();
     const double lambda = tree.lambda();
+    kin_at_state_ = false;
     const bool fresh = sameAsCached(state);
     if (!fresh) {  // momenta of a state set from outside
       treeKinematics(tree, state, kin_);
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
-      prev_bar_.resize(nv);  // sized now, so the steps after this one do not allocate
+      f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
+      prev_bar_.resize(nv);
       prev_bar2_.resize(nv);
+      prev_bar3_.resize(nv);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
@@ -181,7 +190,7 @@ class Midpoint final : public TreeIntegrator {
       treeKinematics(tree, state, kin_);
       factorMass(tree);
     }
-    const Eigen::LLT<Eigen::MatrixXd>& A = iterationMatrix(tree, h);
+    const tree_math::Cholesky& A = iterationMatrix(tree, h);
     y_.setZero(nv);
     r_.resize(nv);
     mid_ = state;
@@ -189,15 +198,27 @@ class Midpoint final : public TreeIntegrator {
     double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
     // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
     // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
+    // A fixed base under gravity alone (the common case) takes the fused passes of
+    // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
+    const bool fused = MidpointResidual::applies(tree, loads);
+    double load_power = 0.0;  // of the external moments at the midpoint
+    if (fused) {
+      residual_.prepare(tree);
+      residual_.startAt(state.q);
+    }
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
-      mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
-      setVelocityVector(tree, nu_bar_, mid_);
-      if (tree.floating())
-        mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
-      treeKinematics(tree, mid_, kin_);
-      externalMoments(tree, kin_, loads, f_ext_);
-      momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+      if (fused) {
+        load_power = residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
+      } else {
+        mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
+        setVelocityVector(tree, nu_bar_, mid_);
+        if (tree.floating())
+          mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
+        treeKinematics(tree, mid_, kin_);
+        externalMoments(tree, kin_, loads, f_ext_);
+        momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+      }
       r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
       for (int k = 0; k < n; ++k)
         r_[tree.velocityIndex(k)] -=
@@ -229,10 +250,12 @@ class Midpoint final : public TreeIntegrator {
       last_change = change;
     }
     if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
-    // The power of the loads and efforts at the midpoint (kin_ holds it), for the energy check.
-    double power = loads.effort.dot(nu_bar_.tail(n));
-    for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
-      power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+    // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
+    // the energy check.
+    if (!fused)
+      for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+        load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+    const double power = load_power + loads.effort.dot(nu_bar_.tail(n));
     const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
@@ -247,7 +270,7 @@ class Midpoint final : public TreeIntegrator {
           (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
     }
     // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
-    treeKinematics(tree, state, kin_);
+    treePoses(tree, state, kin_);
     factorMass(tree);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
@@ -272,15 +295,21 @@ class Midpoint final : public TreeIntegrator {
     // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
     // same h (error O(h³)), else from ν(t + h) and ν̄.
     if (!extrapolated) runs_ = 0;  // this step starts a run of equal steps
-    if (runs_ >= 2) {
+    if (runs_ >= 3) {
+      guess_ = 4.0 * (nu_bar_ + prev_bar2_) - 6.0 * prev_bar_ - prev_bar3_;
+    } else if (runs_ >= 2) {
       guess_ = 3.0 * nu_bar_ - 3.0 * prev_bar_ + prev_bar2_;
     } else {
       guess_ = 2.0 * nu_end_ - nu_bar_;
     }
+    prev_bar3_.swap(prev_bar2_);
     prev_bar2_.swap(prev_bar_);
     prev_bar_ = nu_bar_;
     ++runs_;
     setVelocityVector(tree, nu_end_, state);
+    // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
+    treeVelocities(tree, state, kin_);
+    kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
     cached_ = true;
@@ -304,16 +333,18 @@ class Midpoint final : public TreeIntegrator {
   bool slots_sized_ = false;
   double T_ = 0.0;             // kinetic energy of the state the integrator produced
   bool mass_at_last_ = false;  // M_ and llt_ are M at the pose of last_
+  bool kin_at_state_ = false;  // kin_ is the kinematics of the state the last substep produced
   int runs_ = 0;               // consecutive steps of the same h, for the extrapolation
-  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, pm_, grad_, r_, y_, nu_bar_, nu_new_,
-      nu_end_, rhs_;
+  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, prev_bar3_, pm_, grad_, r_, y_, nu_bar_,
+      nu_new_, nu_end_, rhs_;
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;
   BodyMoments f_ext_, zeros_;
   Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
-  Eigen::LLT<Eigen::MatrixXd> llt_, llt_damped_;
+  tree_math::Cholesky llt_, llt_damped_;
   JointRows rows_;
+  MidpointResidual residual_;
 };
 
 }  // namespace

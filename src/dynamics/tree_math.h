@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
 
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/moment.h"
@@ -132,6 +134,59 @@ inline void addToParent(const TreeKinematics& kin, int b, const Matrix6d& I, Mat
     }
   }
 }
+
+/// The Cholesky factorization A = L Lᵀ of a tree's mass matrix (small, symmetric positive
+/// definite), on scalars with the reciprocals of L's diagonal kept: the solves of a step are
+/// short dependent chains, which divisions and Eigen's dynamic-size kernels would lengthen
+/// several times. A matrix that is not positive definite leaves NaN in L (and in every
+/// solution), which the integrators treat as a failed step.
+class Cholesky {
+ public:
+  void compute(const Eigen::MatrixXd& A) {
+    const int n = static_cast<int>(A.rows());
+    L_.resize(n, n);
+    inv_diag_.resize(n);
+    for (int j = 0; j < n; ++j) {
+      double d = A(j, j);
+      for (int k = 0; k < j; ++k) d -= L_(j, k) * L_(j, k);
+      const double l = std::sqrt(d), inv = 1.0 / l;
+      L_(j, j) = l;
+      inv_diag_[j] = inv;
+      for (int i = j + 1; i < n; ++i) {
+        double x = A(i, j);
+        for (int k = 0; k < j; ++k) x -= L_(i, k) * L_(j, k);
+        L_(i, j) = x * inv;
+      }
+    }
+  }
+  /// x ← A⁻¹ x: L y = x forward, then Lᵀ z = y backward, both along L's columns.
+  void solveInPlace(Eigen::VectorXd& x) const {
+    const int n = static_cast<int>(x.size());
+    double* v = x.data();
+    const double* inv = inv_diag_.data();
+    for (int j = 0; j < n; ++j) {
+      const double* col = L_.data() + static_cast<std::ptrdiff_t>(j) * n;
+      const double y = v[j] * inv[j];
+      v[j] = y;
+      for (int i = j + 1; i < n; ++i) v[i] -= col[i] * y;
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      const double* col = L_.data() + static_cast<std::ptrdiff_t>(i) * n;
+      double sum = v[i];
+      for (int j = i + 1; j < n; ++j) sum -= col[j] * v[j];
+      v[i] = sum * inv[i];
+    }
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    Eigen::VectorXd x = b;
+    solveInPlace(x);
+    return x;
+  }
+
+ private:
+  Eigen::MatrixXd L_;
+  Eigen::VectorXd inv_diag_;
+};
 
 }  // namespace tree_math
 }  // namespace dynamics

@@ -9,25 +9,102 @@ namespace dynamics {
 using tree_math::Matrix6d;
 using tree_math::Vector6d;
 
+namespace {
+
+// A composite rigid-body inertia about its frame's origin in the coefficients of
+// tree_math::inertiaMatrix (lengths over λ, m' = m λ²): the 6×6 map
+//   (w, u) ↦ (I_o w + h × u, w × h + m' u),   I_o symmetric, h = m' c (c the centre of mass),
+// kept as its ten numbers instead of 36: carrying it to the parent and adding it there cost a
+// tenth of the 6×6 congruence (tree_math::addToParent).
+struct Composite {
+  double I[6];  // I_o: xx, yy, zz, xy, xz, yz
+  double h[3];
+  double m;
+};
+
+// Composite of body b in its parent's frame, added to `parent`: with x_p = R x_b + t,
+// m and h ← R h + m t, and I_o ← R I_o Rᵀ + (2 h'·t + m t·t) 1 − (t h'ᵀ + h' tᵀ) − m t tᵀ with
+// h' = R h (the parallel-axis shift of the centre of mass from R c to R c + t).
+void addToParent(const Eigen::Matrix3d& R, const Eigen::Vector3d& tv, const Composite& c,
+                 Composite& parent) {
+  const double* I = c.I;
+  // R I_o: rows of R times the symmetric I_o.
+  double RI[3][3];
+  for (int i = 0; i < 3; ++i) {
+    const double r0 = R(i, 0), r1 = R(i, 1), r2 = R(i, 2);
+    RI[i][0] = r0 * I[0] + r1 * I[3] + r2 * I[4];
+    RI[i][1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
+    RI[i][2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
+  }
+  const auto rowDot = [&](int i, int j) {
+    return RI[i][0] * R(j, 0) + RI[i][1] * R(j, 1) + RI[i][2] * R(j, 2);
+  };
+  const double t[3] = {tv.x(), tv.y(), tv.z()};
+  double hr[3];
+  for (int i = 0; i < 3; ++i) hr[i] = R(i, 0) * c.h[0] + R(i, 1) * c.h[1] + R(i, 2) * c.h[2];
+  const double m = c.m;
+  const double diag = 2.0 * (hr[0] * t[0] + hr[1] * t[1] + hr[2] * t[2]) +
+                      m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  const auto shift = [&](int i, int j) { return -(t[i] * hr[j] + hr[i] * t[j] + m * t[i] * t[j]); };
+  parent.I[0] += rowDot(0, 0) + diag + shift(0, 0);
+  parent.I[1] += rowDot(1, 1) + diag + shift(1, 1);
+  parent.I[2] += rowDot(2, 2) + diag + shift(2, 2);
+  parent.I[3] += rowDot(0, 1) + shift(0, 1);
+  parent.I[4] += rowDot(0, 2) + shift(0, 2);
+  parent.I[5] += rowDot(1, 2) + shift(1, 2);
+  for (int i = 0; i < 3; ++i) parent.h[i] += hr[i] + m * t[i];
+  parent.m += m;
+}
+
+// The moment I_c s of a composite on a screw s = (w, u).
+cga::Moment apply(const Composite& c, const cga::Bivelocity& s) {
+  const double* I = c.I;
+  const Eigen::Vector3d& w = s.rot;
+  const Eigen::Vector3d h(c.h[0], c.h[1], c.h[2]);
+  const Eigen::Vector3d Iw(I[0] * w.x() + I[3] * w.y() + I[4] * w.z(),
+                           I[3] * w.x() + I[1] * w.y() + I[5] * w.z(),
+                           I[4] * w.x() + I[5] * w.y() + I[2] * w.z());
+  return {Iw + h.cross(s.trans), w.cross(h) + c.m * s.trans};
+}
+
+Matrix6d matrix(const Composite& c) {
+  Matrix6d out;
+  const double* I = c.I;
+  out.topLeftCorner<3, 3>() << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+  Eigen::Matrix3d hx;
+  hx << 0, -c.h[2], c.h[1], c.h[2], 0, -c.h[0], -c.h[1], c.h[0], 0;
+  out.topRightCorner<3, 3>() = hx;
+  out.bottomLeftCorner<3, 3>() = hx.transpose();
+  out.bottomRightCorner<3, 3>() = c.m * Eigen::Matrix3d::Identity();
+  return out;
+}
+
+}  // namespace
+
 void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M) {
   const int n = tree.jointCount(), off = tree.floating() ? 6 : 0;
   const double lambda = tree.lambda();
   M.setZero(tree.velocityCount(), tree.velocityCount());
   // Composite inertias inward, each in its own body's frame (scratch: no allocation once grown).
-  static thread_local std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> Ic_scratch;
+  static thread_local std::vector<Composite> Ic_scratch;
   auto& Ic = Ic_scratch;
   Ic.resize(n + 1);
-  if (!tree.floating()) Ic[0].setZero();
-  for (int b = tree.floating() ? 0 : 1; b <= n; ++b)
-    Ic[b] = tree_math::inertiaMatrix(tree.inertiaOf(b), lambda);
+  for (int b = 0; b <= n; ++b) {
+    Composite& c = Ic[b];
+    c = Composite{{0, 0, 0, 0, 0, 0}, {0, 0, 0}, 0.0};
+    if (b == 0 && !tree.floating()) continue;
+    const Inertia& I = tree.inertiaOf(b);
+    for (int i = 0; i < 3; ++i) c.I[i] = I.principalMoments()[i];
+    c.m = I.mass() * lambda * lambda;
+  }
   for (int b = n; b >= 1; --b) {
     const int p = tree.parentOf(b);
-    if (p != 0 || tree.floating()) tree_math::addToParent(kin, b, Ic[b], Ic[p]);
+    if (p != 0 || tree.floating()) addToParent(kin.R_P[b], kin.t_P[b], Ic[b], Ic[p]);
   }
   for (int k = 0; k < n; ++k) {
     int b = k + 1;
     const cga::Bivelocity& s = tree.screwInChild(k);
-    cga::Moment F = tree_math::moment(Ic[b].leftCols<3>() * s.rot + Ic[b].rightCols<3>() * s.trans);
+    cga::Moment F = apply(Ic[b], s);
     M(off + k, off + k) = tree_math::pairing(F, s);
     while (tree.parentOf(b) != 0) {
       F = tree_math::toParent(kin, b, F);  // to the parent's frame
@@ -42,7 +119,7 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
       M.block<1, 6>(off + k, 0) = tree_math::vec(F).transpose();
     }
   }
-  if (tree.floating()) M.topLeftCorner<6, 6>() = Ic[0];
+  if (tree.floating()) M.topLeftCorner<6, 6>() = matrix(Ic[0]);
 }
 
 Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,

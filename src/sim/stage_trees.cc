@@ -57,6 +57,19 @@ void endContactStep(const Model& model, Data& data, int t) {
   td.integrator->reset();
 }
 
+// The links' states from the tree's after its step: from the kinematics the integrator left,
+// when it has them, else recomputed (writeTreeBodies).
+void writeBodies(const Model& model, Data& data, int t) {
+  const TreeModel& tm = model.trees[t];
+  const dynamics::TreeKinematics* kin = data.trees[t].integrator->lastKinematics();
+  if (!kin) return writeTreeBodies(model, data, t);
+  for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+    MovingBodyData& body = data.bodies[tm.movingOf(b)];
+    body.state = {kin->M_W[b], kin->omega[b]};
+    body.last_path = StepPath::kStepped;
+  }
+}
+
 }  // namespace
 
 void loadTrees(const Model& model, Data& data) {
@@ -89,10 +102,11 @@ void integrateTrees(const Model& model, Data& data) {
     if (td.contact_kicked) {  // loads and impulses are in ν already: the step drifts
       td.integrator->step(tm.body, td.drift_loads, model.config.dt, td.state);
       endContactStep(model, data, t);
+      writeTreeBodies(model, data, t);
     } else {
       td.integrator->step(tm.body, td.loads, model.config.dt, td.state);
+      writeBodies(model, data, t);
     }
-    writeTreeBodies(model, data, t);
   }
 }
 

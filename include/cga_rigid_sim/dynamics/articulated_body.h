@@ -114,6 +114,11 @@ struct TreeKinematics {
 
 /// Poses and velocities of every body at `state`.
 void treeKinematics(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
+/// The two halves of treeKinematics: the poses (M_W, M_P, R_P, t_P; kin sized), then the
+/// velocities (omega) into a `kin` that holds the poses of state's positions — alone, what
+/// treeKinematics gives after a change of the rates only.
+void treePoses(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
+void treeVelocities(const ArticulatedBody& tree, const TreeState& state, TreeKinematics& kin);
 
 /// Generalized velocity ν of a state, and back.
 Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state);

@@ -55,6 +55,11 @@ class TreeIntegrator {
   virtual void reset() {}
   /// Fixed-point iterations of the last step (implicit methods; 0 otherwise), for benchmarks.
   virtual int lastIterations() const { return 0; }
+  /// The kinematics (poses and velocities of every body) of the state the last step produced,
+  /// when the integrator has them at hand, else null: spares the caller a kinematics pass.
+  /// Valid until the next call on the integrator; describes that state only while it is
+  /// unchanged.
+  virtual const TreeKinematics* lastKinematics() const { return nullptr; }
 };
 
 /// The names makeTreeIntegrator accepts (those of integrator.h that apply to trees).

@@ -1,0 +1,69 @@
+// MidpointResidual: the residual of the variational midpoint's equations (tree_integrator_
+// midpoint.cc) in one outward and one inward pass, for the common case of a fixed-base tree
+// under gravity and joint efforts alone (no loads applied to its links). Internal.
+//
+// At the midpoint q̄ = q + ½h q̄̇ with rates q̄̇ it yields what treeKinematics, gravityMoments and
+// momentumAndGradient together yield there — the joint momenta p = M(q̄) q̄̇ and the gradient
+// ∂L/∂q + Q — to round-off, with less work:
+// - each joint's frame change in the blocks of its adjoint (R_P, t_P; doc/articulated.md (A1'))
+//   straight from the joint angle: a revolute joint turns its child about the line s = (u, m),
+//   so with M_PC = T(a0) R0 and c the point of the line nearest the child's origin,
+//     R_P = R0 R_u(q) = R0 + sin q R0[u]× + (1 − cos q) R0[u]×²,   t_P = (a0 + R0 c − R_P c)/λ,
+//   (Rodrigues; the three matrices and a0 + R0 c are constants of the tree); a prismatic joint
+//   slides it: R_P = R0, t_P = (a0 + λ q R0 m)/λ. No motors (poses in the world are not needed).
+// - sin and cos of ½q̄ by the addition theorem from those of ½q at the step's start, which the
+//   iteration does not move: ½q̄ = ½q + ¼h q̄̇, the increment's sine and cosine from their
+//   Taylor polynomials (exact to round-off while |¼h q̄̇| ≤ 1/16, else from std::sin/cos).
+// - gravity in each body's axes carried outward with the frames (g_b = R_Pᵀ g_p), so that the
+//   external moments (0, λ m g_b) need no world pose either.
+// - the outward pass also sets each body's bivelocity and momentum I(Ω_b); the inward pass then
+//   accumulates the subtree momenta H and external moments F as momentumAndGradient does.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "cga_rigid_sim/dynamics/articulated_body.h"
+#include "cga_rigid_sim/dynamics/tree_integrator.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+class MidpointResidual {
+ public:
+  /// Whether these passes apply to a step of `tree` under `loads`: a fixed base and no loads
+  /// applied to its links (the general path handles the rest).
+  static bool applies(const ArticulatedBody& tree, const TreeLoads& loads);
+  /// The tree's constants (recomputed when called with another tree than the last).
+  void prepare(const ArticulatedBody& tree);
+  /// sin and cos of ½q at the step's start.
+  void startAt(const Eigen::VectorXd& q);
+  /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
+  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q; returns the power of gravity
+  /// there, Σ ⟨F_b, Ω_b⟩. Sizes are kept: no allocation once sized.
+  double evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+
+ private:
+  struct Joint {
+    bool revolute = true;
+    int parent = 0;
+    double A[9], B[9], C[9];  // R0, R0[u]×, R0[u]×² (row-major); prismatic: A = R0 only
+    double c[3];              // revolute: c/λ; prismatic: R0 m
+    double d[3];              // revolute: (a0 + R0 c)/λ; prismatic: a0/λ
+    double s[6];              // screw in the child's frame (rot, trans)
+    double J[3], m2;          // principal moments, m λ²
+    double lm;                // λ m (gravity moment per unit acceleration)
+  };
+  struct Body {  // per body, scratch of one evaluation
+    double R[9], t[3], g[3], w[3], u[3], H[6], F[6];
+  };
+  const ArticulatedBody* tree_ = nullptr;
+  int joints_ = -1;
+  std::vector<Joint> joint_;
+  std::vector<Body> body_;
+  std::vector<double> sin_half_, cos_half_;
+};
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

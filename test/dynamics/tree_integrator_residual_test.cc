@@ -1,0 +1,118 @@
+// The variational midpoint's fused residual passes (src/dynamics/tree_integrator_residual.h)
+// against the general path they replace for fixed-base trees under gravity: treeKinematics at
+// the midpoint, gravityMoments and momentumAndGradient (each tested on its own in
+// articulated_body_test.cc), on random trees with revolute and prismatic joints.
+#include "../../src/dynamics/tree_integrator_residual.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "cga_rigid_sim/dynamics/loads.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+namespace {
+
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+constexpr double kLambda = 0.7;  // not 1, so a misplaced λ shows
+
+Vector3d randomVector(std::mt19937& rng, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  return {u(rng), u(rng), u(rng)};
+}
+
+cga::Motor randomMotor(std::mt19937& rng, double reach) {
+  Eigen::Quaterniond R(Eigen::Vector4d(randomVector(rng, 1).x(), randomVector(rng, 1).y(),
+                                       randomVector(rng, 1).z(), 0.5));
+  R.normalize();
+  return cga::Motor::fromPose(R, randomVector(rng, reach), kLambda);
+}
+
+ArticulatedBody randomTree(std::mt19937& rng, int n, bool floating) {
+  std::uniform_real_distribution<double> u(0.2, 1.5);
+  const auto inertia = [&] {
+    return Inertia::fromPrincipal("link", u(rng), {0.1 + 0.1 * u(rng), 0.1 + 0.1 * u(rng), 0.15})
+        .value();
+  };
+  std::vector<TreeJoint> joints;
+  for (int k = 0; k < n; ++k) {
+    TreeJoint j;
+    j.kind = (k % 3 == 2) ? JointKind::kPrismatic : JointKind::kRevolute;
+    j.parent = std::uniform_int_distribution<int>(0, k)(rng);
+    j.M_PJ = randomMotor(rng, 0.8);
+    j.M_JC = randomMotor(rng, 0.5);
+    j.axis = randomVector(rng, 1).normalized();
+    j.inertia = inertia();
+    joints.push_back(j);
+  }
+  return ArticulatedBody(floating ? std::optional<Inertia>(inertia()) : std::nullopt, joints,
+                         kLambda);
+}
+
+// At q̄ = q + ½h ν̄ with rates ν̄: momenta, gradient and gravity's power agree with the general
+// passes to round-off. Step sizes: small increments ¼hν̄ (the Taylor branch of the half-angle
+// sine and cosine) and large ones (past 1/16: std::sin/cos).
+TEST(MidpointResidual, IsTheKinematicsGravityAndMomentumPasses) {
+  std::mt19937 rng(2026);
+  const Vector3d g(0.3, -1.1, -9.81);
+  for (const int n : {1, 2, 7, 12}) {
+    for (const double h : {1e-3, 0.02, 0.5}) {
+      for (int trial = 0; trial < 5; ++trial) {
+        const ArticulatedBody tree = randomTree(rng, n, false);
+        TreeState start;
+        start.q = VectorXd::Random(n) * 3.0;
+        const VectorXd nu_bar = VectorXd::Random(n) * 3.0;
+        MidpointResidual residual;
+        residual.prepare(tree);
+        residual.startAt(start.q);
+        VectorXd p, grad;
+        const double power = residual.evaluate(start.q, g, h, nu_bar, p, grad);
+
+        TreeState mid;
+        mid.q = start.q + 0.5 * h * nu_bar;
+        mid.v = nu_bar;
+        TreeKinematics kin;
+        treeKinematics(tree, mid, kin);
+        BodyMoments f;
+        gravityMoments(tree, kin, g, f);
+        VectorXd p_ref, grad_ref;
+        momentumAndGradient(tree, kin, f, p_ref, &grad_ref);
+        double power_ref = 0.0;
+        for (int b = 1; b < tree.bodyCount(); ++b)
+          power_ref += f[b].rot.dot(kin.omega[b].rot) + f[b].trans.dot(kin.omega[b].trans);
+        // Both are O(1)-conditioned sums over ≤ 12 bodies of O(10) terms: round-off ≈ 1e-14;
+        // a wrong frame, sign or λ would be off by O(1).
+        const double scale = 1.0 + p_ref.cwiseAbs().maxCoeff() + grad_ref.cwiseAbs().maxCoeff();
+        EXPECT_LT((p - p_ref).cwiseAbs().maxCoeff(), 1e-12 * scale) << n << " joints, h " << h;
+        EXPECT_LT((grad - grad_ref).cwiseAbs().maxCoeff(), 1e-12 * scale)
+            << n << " joints, h " << h;
+        EXPECT_NEAR(power, power_ref, 1e-12 * (1.0 + std::abs(power_ref)));
+      }
+    }
+  }
+}
+
+// The fused passes know gravity only: a floating base or a load on a link takes the general path.
+TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
+  std::mt19937 rng(7);
+  const ArticulatedBody fixed = randomTree(rng, 3, false), floating = randomTree(rng, 3, true);
+  TreeLoads loads;
+  loads.gravity_W = Vector3d(0, 0, -9.81);
+  loads.applied.assign(4, nullptr);
+  EXPECT_TRUE(MidpointResidual::applies(fixed, loads));
+  EXPECT_FALSE(MidpointResidual::applies(floating, loads));
+  Loads pushed;
+  AppliedLoad push;
+  push.F = cga::Force(Vector3d(1, 0, 0));
+  pushed.add(push);
+  loads.applied[2] = &pushed;
+  EXPECT_FALSE(MidpointResidual::applies(fixed, loads));
+}
+
+}  // namespace
+}  // namespace dynamics
+}  // namespace cga_rigid_sim
