@@ -16,6 +16,49 @@ std::string curvedIntegratorName(const std::string& configured,
   return configured;
 }
 
+// The moment of a force f_B at the body-axes offset x_B plus a couple τ_B (curved_bodies.h).
+cga::Bivector4 bodyMoment(const dynamics::CurvedSpace& S, const Eigen::Vector3d& f_B,
+                          const Eigen::Vector3d& x_B, const Eigen::Vector3d& couple_B) {
+  cga::Bivector4 M(couple_B, Eigen::Vector3d::Zero());
+  if (!f_B.isZero(0.0))
+    M += cga::wedge(dynamics::curvedBodyPoint(S, x_B), dynamics::curvedBodyVector(S, x_B, f_B));
+  return M;
+}
+
+// The body moment of the body's active wrenches (b.loads) at its current pose: world-axes
+// forces and couples turned into the body's axes through the chart attitude there.
+cga::Bivector4 wrenchMoment_B(const dynamics::CurvedSpace& S, const MovingBodyData& b) {
+  Eigen::Vector3d x;
+  Eigen::Quaterniond q;
+  S.chartPose(b.curved_state.psi, x, q);
+  const Eigen::Quaterniond q_BW = q.conjugate();
+  cga::Bivector4 M;
+  for (const dynamics::AppliedLoad& l : b.loads.applied()) {
+    const bool world = l.axes == dynamics::Axes::kWorld;
+    M += bodyMoment(S, world ? Eigen::Vector3d(q_BW * l.F.f) : l.F.f, l.point_B,
+                    world ? Eigen::Vector3d(q_BW * l.couple) : l.couple);
+  }
+  return M;
+}
+
+// K(τ): L_B += τ M_B(ψ) (the wrenches' moment at the current pose).
+void kick(const Model& model, int i, double tau, MovingBodyData& b) {
+  const dynamics::CurvedInertia& I = *model.moving[i].curved_inertia;
+  dynamics::CurvedBodyState& s = b.curved_state;
+  s.omega_B = I.velocity(I.momentum(s.omega_B) + tau * wrenchMoment_B(*model.curved_space, b));
+}
+
+// b.state from the curved state: the chart pose and the true velocities (w, v = |R| u).
+void writeChartState(const Model& model, MovingBodyData& b) {
+  const dynamics::CurvedSpace& S = *model.curved_space;
+  const dynamics::CurvedBodyState& s = b.curved_state;
+  Eigen::Vector3d x;
+  Eigen::Quaterniond q;
+  S.chartPose(s.psi, x, q);
+  b.state.M_WB = cga::Motor::fromPose(q, x, model.lambda);
+  b.state.omega_B = cga::Bivelocity(s.omega_B.rot, (S.rho() / model.lambda) * s.omega_B.trans);
+}
+
 }  // namespace
 
 std::optional<Error> checkCurvedConfig(const WorldConfig& config) {
@@ -76,20 +119,28 @@ std::optional<Error> makeCurvedBodyData(const Model& model, int moving_index,
 
 void stepCurvedBody(const Model& model, int i, MovingBodyData& b) {
   dynamics::CurvedBodyState& s = b.curved_state;
-  // Torque-free and Ω_B = 0: at rest under both integrators; left exactly as it is.
-  if (s.omega_B.rot.isZero(0.0) && s.omega_B.trans.isZero(0.0)) {
+  const bool loaded = b.loads.hasApplied();
+  // No wrench and Ω_B = 0: at rest under both integrators; left exactly as it is.
+  if (!loaded && s.omega_B.rot.isZero(0.0) && s.omega_B.trans.isZero(0.0)) {
     b.last_path = StepPath::kAtRest;
     return;
   }
   b.last_path = StepPath::kStepped;
-  const dynamics::CurvedSpace& S = *model.curved_space;
-  b.curved_integrator->step(*model.moving[i].curved_inertia, dynamics::CurvedLoads(),
-                            model.config.dt, s);
-  Eigen::Vector3d x;
-  Eigen::Quaterniond q;
-  S.chartPose(s.psi, x, q);
-  b.state.M_WB = cga::Motor::fromPose(q, x, model.lambda);
-  b.state.omega_B = cga::Bivelocity(s.omega_B.rot, (S.rho() / model.lambda) * s.omega_B.trans);
+  // Wrenches: the Strang splitting K(h/2) F(h) K(h/2), each kick at its own pose (so a world-axes
+  // load is turned into the body's axes at that pose).
+  const double h = model.config.dt;
+  if (loaded) kick(model, i, 0.5 * h, b);
+  b.curved_integrator->step(*model.moving[i].curved_inertia, dynamics::CurvedLoads(), h, s);
+  if (loaded) kick(model, i, 0.5 * h, b);
+  writeChartState(model, b);
+}
+
+void applyCurvedImpulse(const Model& model, int i, const Eigen::Vector3d& j_B,
+                        const Eigen::Vector3d& x_B, const Eigen::Vector3d& a_B, MovingBodyData& b) {
+  const dynamics::CurvedInertia& I = *model.moving[i].curved_inertia;
+  dynamics::CurvedBodyState& s = b.curved_state;
+  s.omega_B = I.velocity(I.momentum(s.omega_B) + bodyMoment(*model.curved_space, j_B, x_B, a_B));
+  writeChartState(model, b);
 }
 
 std::optional<Error> refuseInCurvedSpace(const Model& model, const std::string& input) {

@@ -1,6 +1,7 @@
 // Stage 1 of the step: the inputs due at step k take effect, in (step, arrival) order.
 #include "cga_rigid_sim/dynamics/impulse.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "curved_bodies.h"
 #include "wrench_schedule.h"
 
 namespace cga_rigid_sim {
@@ -12,6 +13,16 @@ namespace {
 void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
   MovingBodyData& b = data.bodies[in.body];
   const double lambda = model.lambda;
+  if (model.curved_space) {  // 1 up (curved_bodies.h): in body axes, through the chart pose
+    if (in.axes == dynamics::Axes::kWorld) {
+      const Eigen::Quaterniond R_BW = b.state.M_WB.rotation().conjugate();
+      const Eigen::Vector3d x_B = R_BW * (in.point - b.state.M_WB.translation(lambda));
+      applyCurvedImpulse(model, in.body, R_BW * in.F.f, x_B, R_BW * in.couple, b);
+    } else {
+      applyCurvedImpulse(model, in.body, in.F.f, in.point, in.couple, b);
+    }
+    return;
+  }
   const cga::Moment T_imp_B =
       in.axes == dynamics::Axes::kWorld
           ? dynamics::impulseMoment_B(b.state, in.F, in.point, in.couple, lambda)

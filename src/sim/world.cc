@@ -60,14 +60,12 @@ void World::step(std::uint64_t n) {
 }
 
 Result<bool> World::applyWrench(const WrenchInput& in) {
-  if (auto e = refuseInCurvedSpace(impl_->model, "apply_wrench")) return *e;
   auto q = admitWrench(impl_->model, impl_->data, in);
   if (!q) return q.failure();
   return enqueue(impl_->model, impl_->data, *q, "apply_wrench");
 }
 
 Result<bool> World::applyImpulse(const ImpulseInput& in) {
-  if (auto e = refuseInCurvedSpace(impl_->model, "apply_impulse")) return *e;
   auto q = admitImpulse(impl_->model, impl_->data, in);
   if (!q) return q.failure();
   return enqueue(impl_->model, impl_->data, *q, "apply_impulse");
