@@ -6,7 +6,8 @@ Truths (doc/curved_space.md): without inputs the 4-d world momentum and the ener
 the ball's true speed |v| is constant (its translation part only turns), and the chart is
 conformal with ds = |dx| / (1 + |x|^2/(4 R^2)), so the speed read from consecutive tf positions,
 times that factor, is |v| (to the O(dt^2) of the finite difference), while the raw chart speed
-is not. And a curved node with gravity on refuses to start, naming the rule.
+is not. An impulse through the ball's centre adds its 4-d moment to the world momentum. And a
+curved node with gravity on refuses to start, naming the rule.
 """
 import math
 import os
@@ -19,7 +20,8 @@ import rostest
 from tf2_msgs.msg import TFMessage
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from sim_test_util import Simulator, norm, start_failure, sub, wait_until  # noqa: E402
+from sim_test_util import (Simulator, make_impulse, norm, start_failure, sub,  # noqa: E402
+                           wait_until)
 from cga_rigid_sim.msg import CurvedMomentumArray  # noqa: E402
 
 R = 5.0
@@ -106,6 +108,28 @@ class CurvedSpaceTest(unittest.TestCase):
         # 1e-5 leaves room. The raw chart speed is off by ~|x|^2/(4R^2) ~ 1e-2 at the end.
         self.assertLess(worst_true, 1e-5)
         self.assertGreater(raw_last, 1e-3)
+
+    def test_zz_impulse_adds_its_four_d_moment(self):
+        # Last (after the tests that read the free motion). An impulse j through the ball's centre
+        # in its own frame has the body moment O^J = (0; R j) (doc/curved_space.md (C12)); the
+        # world momentum gains it carried by the pose, psi (O^J) psi~, a conjugation by a rotor
+        # of Spin(4), which keeps the coefficient norm of an so(4) bivector: |dL_W| = R |j|.
+        # Tolerance: round-off of a few ulps of |L_W| ~ 3 and R |j| = 1.
+        j = (0.2, 0.0, 0.0)
+        t_now = self.sim.time()
+        before = [s for s in self.after(self.curved, self.t0) if s <= t_now][-1]
+        self.sim.impulse_pub.publish(make_impulse('ball', j, frame='ball',
+                                                  stamp=t_now + rospy.Duration(0.05)))
+        rospy.sleep(0.5)  # delivered before the steps below
+        t_end = self.sim.step(200)
+        wait_until(lambda: self.after(self.curved, t_end - rospy.Duration(0.001)),
+                   what='a tick after the impulse')
+        after = self.after(self.curved, t_now + rospy.Duration(0.1))[-1]
+        L0 = self.curved[before].bodies[-1].world_momentum
+        L1 = self.curved[after].bodies[-1].world_momentum
+        dL = norm([a - b for a, b in zip(L1, L0)])
+        rospy.loginfo('impulse through the centre: |dL_W| = %.15f, R |j| = %.15f', dL, R * norm(j))
+        self.assertLess(abs(dL - R * norm(j)), 1e-12 * (norm(L0) + R * norm(j)))
 
     def test_gravity_on_is_refused(self):
         status, out = start_failure('curved_with_gravity', '_curvature:=5.0',
