@@ -11,6 +11,8 @@
 #include <cmath>
 #include <random>
 
+#include "common/random_trees.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
@@ -20,41 +22,12 @@ using Eigen::VectorXd;
 
 constexpr double kLambda = 0.7;  // not 1, so a misplaced λ shows
 
-Vector3d randomVector(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return {u(rng), u(rng), u(rng)};
-}
-
+Vector3d randomVector(std::mt19937& rng, double scale) { return testing::randomVector(rng, scale); }
 cga::Motor randomMotor(std::mt19937& rng, double reach) {
-  Eigen::Quaterniond R(Eigen::Vector4d(randomVector(rng, 1).x(), randomVector(rng, 1).y(),
-                                       randomVector(rng, 1).z(), 0.5));
-  R.normalize();
-  return cga::Motor::fromPose(R, randomVector(rng, reach), kLambda);
+  return testing::randomMotor(rng, reach, kLambda);
 }
-
-Inertia randomInertia(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0.2, 1.5);
-  const double m = u(rng), a = u(rng), b = u(rng), c = u(rng);  // a box a × b × c
-  return Inertia::fromPrincipal(
-             "link", m,
-             {m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12})
-      .value();
-}
-
 ArticulatedBody randomTree(std::mt19937& rng, int n, bool floating) {
-  std::vector<TreeJoint> joints;
-  for (int k = 0; k < n; ++k) {
-    TreeJoint j;
-    j.kind = (k % 3 == 2) ? JointKind::kPrismatic : JointKind::kRevolute;
-    j.parent = std::uniform_int_distribution<int>(0, k)(rng);
-    j.M_PJ = randomMotor(rng, 0.8);
-    j.M_JC = randomMotor(rng, 0.5);
-    j.axis = randomVector(rng, 1).normalized();
-    j.inertia = randomInertia(rng);
-    joints.push_back(j);
-  }
-  return ArticulatedBody(floating ? std::optional<Inertia>(randomInertia(rng)) : std::nullopt,
-                         joints, kLambda);
+  return testing::randomTree(rng, n, floating, kLambda);
 }
 
 TreeState randomState(std::mt19937& rng, const ArticulatedBody& tree) {

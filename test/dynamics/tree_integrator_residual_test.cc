@@ -10,6 +10,7 @@
 #include <random>
 
 #include "cga_rigid_sim/dynamics/loads.h"
+#include "common/random_trees.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -20,37 +21,8 @@ using Eigen::VectorXd;
 
 constexpr double kLambda = 0.7;  // not 1, so a misplaced λ shows
 
-Vector3d randomVector(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return {u(rng), u(rng), u(rng)};
-}
-
-cga::Motor randomMotor(std::mt19937& rng, double reach) {
-  Eigen::Quaterniond R(Eigen::Vector4d(randomVector(rng, 1).x(), randomVector(rng, 1).y(),
-                                       randomVector(rng, 1).z(), 0.5));
-  R.normalize();
-  return cga::Motor::fromPose(R, randomVector(rng, reach), kLambda);
-}
-
 ArticulatedBody randomTree(std::mt19937& rng, int n, bool floating) {
-  std::uniform_real_distribution<double> u(0.2, 1.5);
-  const auto inertia = [&] {
-    return Inertia::fromPrincipal("link", u(rng), {0.1 + 0.1 * u(rng), 0.1 + 0.1 * u(rng), 0.15})
-        .value();
-  };
-  std::vector<TreeJoint> joints;
-  for (int k = 0; k < n; ++k) {
-    TreeJoint j;
-    j.kind = (k % 3 == 2) ? JointKind::kPrismatic : JointKind::kRevolute;
-    j.parent = std::uniform_int_distribution<int>(0, k)(rng);
-    j.M_PJ = randomMotor(rng, 0.8);
-    j.M_JC = randomMotor(rng, 0.5);
-    j.axis = randomVector(rng, 1).normalized();
-    j.inertia = inertia();
-    joints.push_back(j);
-  }
-  return ArticulatedBody(floating ? std::optional<Inertia>(inertia()) : std::nullopt, joints,
-                         kLambda);
+  return testing::randomTree(rng, n, floating, kLambda);
 }
 
 // At q̄ = q + ½h ν̄ with rates ν̄: momenta, gradient and gravity's power agree with the general
