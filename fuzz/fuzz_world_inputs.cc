@@ -151,10 +151,14 @@ bool trace() {
   return on;
 }
 
-std::string str(const Eigen::Vector3d& v) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.3g %.3g %.3g)", v.x(), v.y(), v.z());
+// Numbers in full (17 digits): a reproducer's calls can be typed into a regression test.
+std::string str(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
   return buf;
+}
+std::string str(const Eigen::Vector3d& v) {
+  return "(" + str(v.x()) + " " + str(v.y()) + " " + str(v.z()) + ")";
 }
 
 // Everything a refused call must leave as it was, as bytes.
@@ -269,7 +273,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         w.couple = decode.vector();
         w.start_time = decode.stamp(now, dt);
         w.duration = decode.number();
-        detail = w.body + " f " + str(w.F.f) + " couple " + str(w.couple);
+        detail = w.body + " in '" + w.frame + "' f " + str(w.F.f) + " alpha " + str(w.F.alpha) +
+                 " at " + str(w.point) + " couple " + str(w.couple) + " start " +
+                 str(w.start_time) + " duration " + str(w.duration);
         result = world.applyWrench(w);
         break;
       }
@@ -283,7 +289,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         j.point = decode.vector();
         j.angular = decode.vector();
         j.start_time = decode.stamp(now, dt);
-        detail = j.body + " J " + str(j.J.f) + " L " + str(j.angular);
+        detail = j.body + " in '" + j.frame + "' J " + str(j.J.f) + " alpha " + str(j.J.alpha) +
+                 " at " + str(j.point) + " L " + str(j.angular) + " start " + str(j.start_time);
         result = world.applyImpulse(j);
         break;
       }

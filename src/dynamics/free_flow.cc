@@ -27,6 +27,15 @@ constexpr int kRunLength = 32;
 constexpr double kSmallPhaseStep = 0.25;
 constexpr double kWellConditionedKp2 = 0.1;
 
+// |L|² (kg² m⁴/s²) below which a spin counts as still. The asymmetric amplitudes square the
+// components of L and multiply them by ratios of J-differences (down to about 1e-12 × J_a/J_b,
+// kEqualMomentsRelTol), so |L|² has to stay far above the smallest normal double (2.2e-308)
+// for none of them to underflow to 0 and turn the amplitudes into 0/0: with 1e-250 they stay
+// above 1e-280 for moments within 1e18 of each other. Such a spin (|L| < 1e-125 kg m²/s, i.e.
+// |w| < 1e-113 rad/s even for J = 1e-12 kg m²) turns the body by less than 1e-95 rad in the
+// age of the universe.
+constexpr double kStillMomentumSquared = 1e-250;
+
 // x reduced to [−π, π] by a whole number of turns. 2π is split into the double nearest to it
 // and the remainder, so the reduction itself adds no systematic error per turn (a plain
 // remainder by fl(2π) would lose 2.4e-16 rad per turn removed). The number of turns comes from
@@ -282,10 +291,11 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
   c.Q = r;
   c.psi = 0.0;
   // At rest; or not a state at all (non-finite w: left as it is for the caller's validation,
-  // rather than fed to iterations that would never converge); or a spin so slow that |L|²
-  // underflows to 0 (|w| below ~1e-154 rad/s, e.g. after a couple of 1e-230 N m): the amplitudes
-  // below would be 0/0, and it turns by less than 1e-135 rad in the age of the universe.
-  if (w.isZero(0.0) || !w.allFinite() || J.cwiseProduct(w).squaredNorm() == 0.0) {
+  // rather than fed to iterations that would never converge); or a spin so slow that the
+  // squares below underflow (kStillMomentumSquared; e.g. after a couple of 1e-230 N m, or a
+  // force of 2e-159 N at 1 m for one step): the amplitudes would be 0/0.
+  if (w.isZero(0.0) || !w.allFinite() ||
+      !(J.cwiseProduct(w).squaredNorm() >= kStillMomentumSquared)) {
     c.path = Path::kStill;
     return;
   }
