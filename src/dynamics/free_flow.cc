@@ -421,6 +421,57 @@ void stepInRun(FreeFlowCache& c, double t, double h, double& sn, double& cn, dou
                        c.coef_atan * (angle - c.run_angle0)));
 }
 
+// The attitude r and body angular velocity w_new at the elapsed time t = k h from the anchor;
+// r and w_new come in as the anchor's (they stay so on the still path). With `runs`, the
+// elliptic path takes the steps of a run by the addition theorems (point 7); without, every
+// call evaluates from the anchor (point 4), so the result depends on t alone.
+void attitudeAt(FreeFlowCache& c, double t, double h, bool runs, Eigen::Quaterniond& r,
+                Eigen::Vector3d& w_new) {
+  switch (c.path) {
+    case Path::kNone:
+    case Path::kStill:
+      break;
+    case Path::kUniform:
+      c.psi = reduceAngle(c.psi_a + c.rate * t);
+      r = c.Q * axisAngle(c.axis, c.psi);
+      break;
+    case Path::kSymmetric: {
+      c.psi = reduceAngle(c.psi_a + c.rate * t);
+      c.psi3 = reduceAngle(c.psi3_a + c.beta * t);
+      r = c.Q * axisAngle(c.axis, c.psi) * axisAngle(Eigen::Vector3d::UnitZ(), c.psi3);
+      // w_B = Rot(e3, −ψ3) w_B(0).
+      const double s = std::sin(c.psi3), co = std::cos(c.psi3);
+      w_new = Eigen::Vector3d(co * c.w0.x() + s * c.w0.y(), co * c.w0.y() - s * c.w0.x(), c.w0.z());
+      break;
+    }
+    case Path::kElliptic: {
+      double sn, cn, dn;
+      if (!runs || c.anchor_steps == 1 || c.run_steps + 1 >= kRunLength || !c.step_ready) {
+        evaluateFromAnchor(c, t, sn, cn, dn);
+        if (runs && (!c.step_ready || c.step_h != h)) buildStepConstants(h, c);
+      } else {
+        stepInRun(c, t, h, sn, cn, dn);
+      }
+      const Eigen::Vector3d L = ellipticL(c, sn, cn, dn);
+      r = attitude(c, L);
+      w_new = L.cwiseProduct(c.inv_J);
+      break;
+    }
+    case Path::kSeparatrix: {
+      const double tau = c.tau_a + c.omega_p * t;
+      const double sn = std::tanh(tau), cn = 1.0 / std::cosh(tau);
+      const double g = separatrixPsi(c, sn, cn);
+      c.psi = reduceAngle(c.psi_a + (c.rate * t + (g - c.g_a)));
+      c.tau = tau;
+      c.g_tau = g;
+      const Eigen::Vector3d L = ellipticL(c, sn, cn, cn);
+      r = attitude(c, L);
+      w_new = L.cwiseProduct(c.inv_J);
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 // The exact torque-free flow.
@@ -555,9 +606,12 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   const Eigen::Vector3d& J = inertia.principalMoments();
 
   // The cache is valid when the state is the one it left (bit for bit) for the same moments.
-  const bool valid = cache.path != Path::kNone && cache.key_J == J && cache.key_r == r0.coeffs() &&
-                     cache.key_w == w;
-  if (!valid) build(inertia, r0, w, cache);
+  const bool valid = cache.path != Path::kNone && !cache.coast && cache.key_J == J &&
+                     cache.key_r == r0.coeffs() && cache.key_w == w;
+  if (!valid) {
+    build(inertia, r0, w, cache);
+    cache.coast = false;
+  }
 
   // Centre of mass (world): x(t) = x_a + v_a t + ½ g t², v(t) = v_a + g t, evaluated from an
   // anchor and the elapsed time t = k h. The anchor is renewed when the state is not the one
@@ -604,50 +658,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
     c.rho_a = c.rho;
   }
   c.anchor_steps += 1;
-  const double t = c.anchor_steps * h;
-  switch (c.path) {
-    case Path::kNone:
-    case Path::kStill:
-      break;
-    case Path::kUniform:
-      c.psi = reduceAngle(c.psi_a + c.rate * t);
-      r = c.Q * axisAngle(c.axis, c.psi);
-      break;
-    case Path::kSymmetric: {
-      c.psi = reduceAngle(c.psi_a + c.rate * t);
-      c.psi3 = reduceAngle(c.psi3_a + c.beta * t);
-      r = c.Q * axisAngle(c.axis, c.psi) * axisAngle(Eigen::Vector3d::UnitZ(), c.psi3);
-      // w_B = Rot(e3, −ψ3) w_B(0).
-      const double s = std::sin(c.psi3), co = std::cos(c.psi3);
-      w_new = Eigen::Vector3d(co * c.w0.x() + s * c.w0.y(), co * c.w0.y() - s * c.w0.x(), c.w0.z());
-      break;
-    }
-    case Path::kElliptic: {
-      double sn, cn, dn;
-      if (c.anchor_steps == 1 || c.run_steps + 1 >= kRunLength || !c.step_ready) {
-        evaluateFromAnchor(c, t, sn, cn, dn);
-        if (!c.step_ready || c.step_h != h) buildStepConstants(h, c);
-      } else {
-        stepInRun(c, t, h, sn, cn, dn);
-      }
-      const Eigen::Vector3d L = ellipticL(c, sn, cn, dn);
-      r = attitude(c, L);
-      w_new = L.cwiseProduct(c.inv_J);
-      break;
-    }
-    case Path::kSeparatrix: {
-      const double tau = c.tau_a + c.omega_p * t;
-      const double sn = std::tanh(tau), cn = 1.0 / std::cosh(tau);
-      const double g = separatrixPsi(c, sn, cn);
-      c.psi = reduceAngle(c.psi_a + (c.rate * t + (g - c.g_a)));
-      c.tau = tau;
-      c.g_tau = g;
-      const Eigen::Vector3d L = ellipticL(c, sn, cn, cn);
-      r = attitude(c, L);
-      w_new = L.cwiseProduct(c.inv_J);
-      break;
-    }
-  }
+  attitudeAt(c, c.anchor_steps * h, h, /*runs=*/true, r, w_new);
 
   state.M_WB = cga::Motor::fromPose(r, c.x_W, lambda);
   state.omega_B.rot = w_new;
@@ -660,6 +671,56 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   c.key_trans = state.omega_B.trans;
   c.key_q = state.M_WB.dualQuaternion().coeffs();
   c.key_lambda = lambda;
+}
+
+// The same closed forms as a function of the elapsed steps alone (coasting, free_flow.h): the
+// anchor is `from`, the cache is built from it once (keyed by it, so another `from` rebuilds), and
+// every call evaluates from that anchor — the elliptic phase and Π by point 4, never by the runs of
+// point 7 — and writes nothing the next call reads except what the build made. So the state at
+// step k does not depend on which earlier steps were evaluated, or whether any were.
+void freeFlowAt(const Inertia& inertia, double lambda, double h, double steps,
+                const BodyState& from, FreeFlowCache& c, const Eigen::Vector3d& g_W,
+                BodyState& out) {
+  const Eigen::Quaterniond r0 = from.M_WB.rotation();
+  const Eigen::Vector3d& w = from.omega_B.rot;
+  const Eigen::Vector3d& J = inertia.principalMoments();
+  const bool valid = c.coast && c.path != Path::kNone && c.key_J == J && c.key_r == r0.coeffs() &&
+                     c.key_w == w && c.key_trans == from.omega_B.trans &&
+                     c.key_q == from.M_WB.dualQuaternion().coeffs() && c.key_lambda == lambda &&
+                     c.anchor_h == h && c.com_g == g_W;
+  if (!valid) {
+    build(inertia, r0, w, c);
+    c.coast = true;
+    c.key_J = J;
+    c.key_r = r0.coeffs();
+    c.key_w = w;
+    c.key_trans = from.omega_B.trans;
+    c.key_q = from.M_WB.dualQuaternion().coeffs();
+    c.key_lambda = lambda;
+    c.anchor_h = h;
+    c.anchor_steps = 0;
+    c.run_steps = 0;
+    c.psi_a = c.psi;
+    c.psi3_a = c.psi3;
+    c.tau_a = c.tau;
+    c.g_a = c.g_tau;
+    c.rho_a = c.rho;
+    c.x_a = from.M_WB.translation(lambda);
+    c.v_a = r0 * (lambda * from.omega_B.trans);
+    c.com_g = g_W;
+    c.com_h = h;
+  }
+  const double t = steps * h;
+  Eigen::Quaterniond r = r0;
+  Eigen::Vector3d w_new = w;
+  attitudeAt(c, t, h, /*runs=*/false, r, w_new);
+  const Eigen::Vector3d x_W = c.x_a + c.v_a * t + (0.5 * t * t) * g_W;
+  const Eigen::Vector3d v_W = c.v_a + g_W * t;
+  out.M_WB = cga::Motor::fromPose(r, x_W, lambda);
+  out.omega_B.rot = w_new;
+  out.omega_B.trans = c.path != Path::kStill || !g_W.isZero(0.0)
+                          ? Eigen::Vector3d((r.conjugate() * v_W) / lambda)
+                          : Eigen::Vector3d(from.omega_B.trans);
 }
 
 }  // namespace dynamics

@@ -43,5 +43,11 @@ void AutoIntegrator::step(const Inertia& inertia, const Loads& loads, double lam
   exact_.step(inertia, loads, lambda, h, state);
 }
 
+void AutoIntegrator::coast(const Inertia& inertia, const Loads& loads, double lambda, double h,
+                           double steps, const BodyState& from, BodyState& out) {
+  path_ = isAtRest(loads, from.omega_B) ? "at-rest" : exactPath(inertia.inertiaClass());
+  exact_.coast(inertia, loads, lambda, h, steps, from, out);
+}
+
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -25,5 +25,10 @@ void ExactIntegrator::step(const Inertia& inertia, const Loads& loads, double la
   kick(inertia, loads, lambda, 0.5 * h, state);
 }
 
+void ExactIntegrator::coast(const Inertia& inertia, const Loads& loads, double lambda, double h,
+                            double steps, const BodyState& from, BodyState& out) {
+  freeFlowAt(inertia, lambda, h, steps, from, cache_, loads.gravity(), out);
+}
+
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -1,6 +1,7 @@
 // Stage 1 of the step: the inputs due at step k take effect, in (step, arrival) order.
 #include "cga_rigid_sim/dynamics/impulse.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "coasting.h"
 #include "curved_bodies.h"
 #include "wrench_schedule.h"
 
@@ -13,7 +14,8 @@ namespace {
 void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
   MovingBodyData& b = data.bodies[in.body];
   const double lambda = model.lambda;
-  if (model.curved_space) {  // 1 up (curved_bodies.h): in body axes, through the chart pose
+  endCoast(model, b, in.body);  // the state the impulse acts on is the state now
+  if (model.curved_space) {     // 1 up (curved_bodies.h): in body axes, through the chart pose
     if (in.axes == dynamics::Axes::kWorld) {
       const Eigen::Quaterniond R_BW = b.state.M_WB.rotation().conjugate();
       const Eigen::Vector3d x_B = R_BW * (in.point - b.state.M_WB.translation(lambda));

@@ -2,6 +2,7 @@
 // then the clock advances.
 #include "cga_rigid_sim/dynamics/at_rest.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "coasting.h"
 #include "curved_bodies.h"
 
 namespace cga_rigid_sim {
@@ -51,9 +52,27 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       }
       continue;
     }
+    // Coasting (coasting.h): counted, not stepped, while nothing but its closed form moves it.
+    if (b.coast.active) {
+      if (mayCoast(model, b, static_cast<int>(i))) {
+        ++b.coast.steps;
+        b.last_path = StepPath::kStepped;
+        continue;
+      }
+      endCoast(model, b, static_cast<int>(i));  // its loads changed: stepped from here on
+    }
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution
     // is M(t) = M): it is skipped, its state left exactly as it is.
     const bool rest = dynamics::isAtRest(b.loads, b.state.omega_B);
+    if (!rest && mayCoast(model, b, static_cast<int>(i))) {
+      b.integrator->reset();  // the coast's cache is built from `from`
+      b.coast.active = true;
+      b.coast.from = b.state;
+      b.coast.steps = 1;
+      b.coast.synced = 0;
+      b.last_path = StepPath::kStepped;
+      continue;
+    }
     b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
     if (rest) continue;
     b.integrator->step(model.moving[i].inertia, b.loads, lambda, h, b.state);

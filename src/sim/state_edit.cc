@@ -49,6 +49,7 @@ Result<bool> setBodyState(const Model& model, Data& data, const std::string& bod
     writeTreeBodies(model, data, t);
     return true;
   }
+  b.coast = MovingBodyData::Coast();  // the new state replaces the coast's
   b.state =
       scene::placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
   b.integrator->reset();

@@ -8,6 +8,7 @@
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "cga_rigid_sim/sim/worker_pool.h"
+#include "coasting.h"
 #include "contact_detection.h"
 #include "curved_bodies.h"
 #include "input_admission.h"
@@ -23,6 +24,14 @@ struct World::Impl {
   Model model;
   Data data;
   std::unique_ptr<WorkerPool> pool;  ///< null with one thread
+
+  /// The data with every coasting body's state evaluated (coasting.h). Readers call this: a
+  /// coasting body's state is a function of the step count alone, so evaluating it in a const
+  /// reader changes nothing a caller can observe except the time it takes.
+  const Data& current() {
+    syncBodies(model, data, pool.get());
+    return data;
+  }
 };
 
 World::World() = default;
@@ -82,6 +91,8 @@ void World::reset() { resetBodies(impl_->model, impl_->data); }
 Result<BodyStateReport> World::getBodyState(const std::string& body) const {
   const int j = impl_->model.resolveBody(body);
   if (j < 0) return Error("get_body_state", "body", "unknown body '" + body + "'");
+  if (const int i = impl_->model.moving_of_body[j]; i >= 0)
+    syncBody(impl_->model, impl_->data.bodies[i], i);
   return bodyStateReport(impl_->model, impl_->data, j);
 }
 
@@ -107,7 +118,7 @@ Result<bool> World::deleteBody(const std::string& body) {
 const WorldConfig& World::config() const { return impl_->model.config; }
 const scene::Scene& World::scene() const { return impl_->model.scene; }
 const Model& World::model() const { return impl_->model; }
-const Data& World::data() const { return impl_->data; }
+const Data& World::data() const { return impl_->current(); }
 std::uint64_t World::stepCount() const { return impl_->data.step_count; }
 double World::time() const {
   return static_cast<double>(impl_->data.step_count) * impl_->model.config.dt;
@@ -147,20 +158,20 @@ std::vector<JointStateReport> World::jointStates() const {
 }
 
 std::vector<MomentumReport> World::momentum() const {
-  return momentumReports(impl_->model, impl_->data);
+  return momentumReports(impl_->model, impl_->current());
 }
 std::vector<ContactReport> World::contacts() const {
   return contactReports(impl_->model, impl_->data);
 }
 
 std::vector<BodyStateReport> World::bodyStates() const {
-  return bodyStateReports(impl_->model, impl_->data);
+  return bodyStateReports(impl_->model, impl_->current());
 }
 std::vector<FramePose> World::movingFrames() const {
-  return sim::movingFrames(impl_->model, impl_->data);
+  return sim::movingFrames(impl_->model, impl_->current());
 }
 std::vector<FramePose> World::staticFrames() const { return sim::staticFrames(impl_->model); }
-std::string World::summary() const { return worldSummary(impl_->model, impl_->data); }
+std::string World::summary() const { return worldSummary(impl_->model, impl_->current()); }
 
 std::vector<CurvedMomentumReport> World::curvedMomentum() const {
   return curvedMomentumReports(impl_->model, impl_->data);

@@ -304,6 +304,86 @@ TEST(ExactFreeFlow, AdditionTheoremStepsEqualTheAnchoredEvaluation) {
   EXPECT_TRUE(saw_large);
 }
 
+// Coasting (freeFlowAt): the state k steps after `from`, as one evaluation from the anchor.
+// Truth: a second method, k calls of exactFreeFlow(h) from the same state (which take their
+// phases by the addition theorems within runs of 32). Bodies of every path: both polhode axes,
+// near the separatrix, the thin rod, a symmetric top, a sphere, and a body falling under
+// gravity; k from 1 to 20 000 (phases up to 2000 rad). Tolerance as for the runs above:
+// 64 ε (1 + phase) on the rotor (sign included) and w; 64 ε relative on the centre of mass
+// (both evaluate x_a + v_a t + ½ g t² from the same anchor, t = k h), and on v_B = R⁻¹ v_W
+// the two added (the rotor's error turns it).
+TEST(FreeFlowAt, EqualsTheSteppedFlowToRoundOff) {
+  struct Case {
+    const char* name;
+    Eigen::Vector3d J, w, g;
+  };
+  const Case cases[] = {{"e3 polhode", {1.0, 2.0, 3.0}, {0.3, 1.0, -2.0}, {0, 0, 0}},
+                        {"e1 polhode", {1.0, 2.0, 3.0}, {2.0, 1.0, 0.3}, {0, 0, -9.81}},
+                        {"near separatrix", {1.0, 2.0, 3.0}, {1e-7, 2.0, 1e-7}, {0, 0, 0}},
+                        {"thin rod", {1.0, 1.0005, 1e-3}, {0.3, 0.2, 100.0}, {0, 0, 0}},
+                        {"symmetric top", {1.0, 1.0, 0.4}, {0.5, -0.3, 20.0}, {0, 0, -9.81}},
+                        {"sphere", {0.4, 0.4, 0.4}, {1.0, 2.0, 3.0}, {0, 0, 0}},
+                        {"still, falling", {1.0, 2.0, 3.0}, {0, 0, 0}, {0.1, 0, -9.81}}};
+  const int checkpoints[] = {1, 2, 31, 32, 33, 100, 1000, 4321, 20000};
+  const double h = 1e-3;
+  std::mt19937 rng(7);
+  for (const Case& c : cases) {
+    const Inertia I = principal(c.J);
+    const BodyState s0 = makeState(randomRotation(rng), Eigen::Vector3d(0.3, -1.0, 2.0), c.w,
+                                   Eigen::Vector3d(0.5, 0.1, -0.2), 1.0);
+    FreeFlowCache stepped, coast;
+    BodyState a = s0;
+    int k = 0;
+    for (int target : checkpoints) {
+      for (; k < target; ++k) exactFreeFlow(I, 1.0, h, a, stepped, c.g);
+      BodyState b;
+      freeFlowAt(I, 1.0, h, target, s0, coast, c.g, b);
+      const double phase = c.w.norm() * target * h;
+      const double tol = 64 * kEps * (1.0 + phase);
+      EXPECT_LE((a.M_WB.rotation().coeffs() - b.M_WB.rotation().coeffs()).norm(), tol)
+          << c.name << ", step " << target;
+      if (!c.w.isZero()) {
+        EXPECT_LE((a.omega_B.rot - b.omega_B.rot).norm() / c.w.norm(), tol)
+            << c.name << ", step " << target;
+      }
+      const Eigen::Vector3d xa = a.M_WB.translation(1.0), xb = b.M_WB.translation(1.0);
+      EXPECT_LE((xa - xb).norm(), 64 * kEps * xa.norm()) << c.name << ", step " << target;
+      // v_B = R⁻¹ v_W: the rotor's error turns it, on top of v_W's own rounding.
+      EXPECT_LE((a.omega_B.trans - b.omega_B.trans).norm(),
+                (tol + 64 * kEps) * a.omega_B.trans.norm())
+          << c.name << ", step " << target;
+    }
+  }
+}
+
+// Coasting's premise: the state at step k is a function of k alone — the cache carries nothing
+// from one evaluation to the next that changes the result. Truth: the same evaluation on a fresh
+// cache. One cache evaluates the step counts in a scrambled order (back and forth across half
+// periods and across the first call), and each result must equal, bit for bit, that of a cache
+// that evaluates only that count. Fails if an evaluation continued from the previous one (e.g.
+// by the addition theorems) or left a phase behind that the next one reads.
+TEST(FreeFlowAt, DependsOnTheStepCountAlone) {
+  const Eigen::Vector3d Js[] = {{1.0, 2.0, 3.0}, {1.0, 2.0, 3.0}, {1.0, 1.0, 0.4}};
+  const Eigen::Vector3d ws[] = {{0.3, 1.0, -2.0}, {2.0, 1.0, 0.3}, {0.5, -0.3, 20.0}};
+  const double ks[] = {5000, 3, 3, 4, 777, 2, 100000, 1, 778, 64, 33};
+  std::mt19937 rng(8);
+  for (int c = 0; c < 3; ++c) {
+    const Inertia I = principal(Js[c]);
+    const BodyState s0 = makeState(randomRotation(rng), Eigen::Vector3d(1, 2, 3), ws[c],
+                                   Eigen::Vector3d(0.5, 0.1, -0.2), 1.0);
+    const Eigen::Vector3d g(0, 0, -9.81);
+    FreeFlowCache shared;
+    for (double k : ks) {
+      BodyState a, b;
+      freeFlowAt(I, 1.0, 1e-3, k, s0, shared, g, a);
+      FreeFlowCache fresh;
+      freeFlowAt(I, 1.0, 1e-3, k, s0, fresh, g, b);
+      EXPECT_EQ(a.M_WB.coefficients(), b.M_WB.coefficients()) << "case " << c << ", k " << k;
+      EXPECT_EQ(a.omega_B.coefficients(), b.omega_B.coefficients()) << "case " << c << ", k " << k;
+    }
+  }
+}
+
 // Regression (found by Contacts.EnergyNeverRisesInARandomPile): a box spinning almost exactly
 // about its smallest axis, where the computed k'² rounds to 1 + 2⁻⁵² (k² ≈ 1e-19). The addition
 // theorem's constants once took k² = 1 − k'² < 0 and the state became NaN on the second step;

@@ -61,6 +61,9 @@ struct FreeFlowCache {
     kSeparatrix,  ///< J1 < J2 < J3 on the separatrix (k = 1): hyperbolic functions
   };
   Path path = Path::kNone;
+  /// Built by freeFlowAt (anchored at its `from`, keys below are that state) rather than by
+  /// exactFreeFlow (keys are the state the last step left); each rebuilds the other's cache.
+  bool coast = false;
 
   // Validity key: the moments and the rotational state this cache ends at.
   Eigen::Vector3d key_J = Eigen::Vector3d::Zero();
@@ -159,6 +162,18 @@ struct FreeFlowCache {
 /// @param g_W     uniform acceleration of the centre of mass, world axes, m/s² (no torque)
 void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& state,
                    FreeFlowCache& cache, const Eigen::Vector3d& g_W = Eigen::Vector3d::Zero());
+
+/// The torque-free motion (parabola under g_W included) `steps` steps of h after the state
+/// `from`, in closed form from the elapsed time t = steps·h alone: a coasting body's state is
+/// evaluated only when it is read (the World's coasting bodies, doc/conventions.md). The result
+/// is a function of (from, steps) only — it does not depend on which other steps were evaluated
+/// before — and equals `steps` calls of exactFreeFlow(h) from `from` to round-off (the elliptic
+/// phase and Π are evaluated from the anchor every time: the accuracy of a single step of t).
+/// `cache` belongs to this body; it is built from `from` on the first call and rebuilt whenever
+/// `from`, h, g_W or λ differ from the call that built it.
+void freeFlowAt(const Inertia& inertia, double lambda, double h, double steps,
+                const BodyState& from, FreeFlowCache& cache, const Eigen::Vector3d& g_W,
+                BodyState& out);
 
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -32,6 +32,17 @@ class Integrator {
                     BodyState& state) = 0;
   /// Drops any cached per-body data.
   virtual void reset() {}
+  /// Whether the motion under `loads` is a closed form in the elapsed time (exact, auto: no
+  /// applied load; gravity allowed). The World then lets the body coast: it takes no step and
+  /// evaluates the state by coast() only when it is read (sim/data.h, Coast).
+  virtual bool coasts(const Loads& /*loads*/) const { return false; }
+  /// Only where coasts(loads): the state `steps` steps of h after `from`, a function of
+  /// (from, steps) alone (no other call changes it), equal to `steps` calls of step() from
+  /// `from` to round-off. May cache what depends on `from` only.
+  virtual void coast(const Inertia& /*inertia*/, const Loads& /*loads*/, double /*lambda*/,
+                     double /*h*/, double /*steps*/, const BodyState& from, BodyState& out) {
+    out = from;
+  }
 };
 
 /// The names makeIntegrator accepts, in documentation order.

@@ -32,6 +32,10 @@ class AutoIntegrator : public Integrator {
   void step(const Inertia& inertia, const Loads& loads, double lambda, double h,
             BodyState& state) override;
   void reset() override { exact_.reset(); }
+  /// Without applied loads: the exact flow's closed form (ExactIntegrator::coast).
+  bool coasts(const Loads& loads) const override { return exact_.coasts(loads); }
+  void coast(const Inertia& inertia, const Loads& loads, double lambda, double h, double steps,
+             const BodyState& from, BodyState& out) override;
 
  private:
   ExactIntegrator exact_;

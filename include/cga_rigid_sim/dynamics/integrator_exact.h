@@ -43,6 +43,10 @@ class ExactIntegrator : public Integrator {
   void step(const Inertia& inertia, const Loads& loads, double lambda, double h,
             BodyState& state) override;
   void reset() override { cache_ = FreeFlowCache(); }
+  /// Torque-free (gravity allowed): the closed form of freeFlowAt.
+  bool coasts(const Loads& loads) const override { return !loads.hasApplied(); }
+  void coast(const Inertia& inertia, const Loads& loads, double lambda, double h, double steps,
+             const BodyState& from, BodyState& out) override;
 
  private:
   FreeFlowCache cache_;

@@ -55,6 +55,16 @@ struct MovingBodyData {
   /// plane when every contact of the body shares one normal, so its sliding is trapezoidal
   /// (doc/contacts.md#time-stepping); zero otherwise.
   Eigen::Vector3d contact_shift_W = Eigen::Vector3d::Zero();
+  /// Coasting (src/sim/coasting.h): while a body's motion is a closed form in the elapsed time
+  /// (its integrator coasts() under its loads) and nothing else acts on it, it takes no step;
+  /// `state` is then evaluated from `from` and the steps since, when it is read.
+  struct Coast {
+    bool active = false;
+    std::uint64_t steps = 0;   ///< steps taken since `from`
+    std::uint64_t synced = 0;  ///< `state` is the state `synced` steps after `from`
+    dynamics::BodyState from;  ///< the state the coast started at
+  };
+  Coast coast;
   /// Curved space only: the 1-up state (ψ, Ω_B) and its integrator; `state` then mirrors it in
   /// the chart after every step (sim/curved_bodies.h).
   dynamics::CurvedBodyState curved_state;
