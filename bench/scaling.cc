@@ -14,9 +14,11 @@
 // inertia and integrator object take a few hundred bytes to a kilobyte).
 //
 // CSV (bench/out/scaling.csv): layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,
-// real_time_factor,cpu_ns_per_body_step,threads — real_time_factor is dt over the wall time of
-// one step (≥ 1: real time); cpu_ns_per_body_step is the calling thread's CPU time per
-// body-step (with several threads, only its own share); threads is WorldConfig::threads.
+// real_time_factor,cpu_ns_per_body_step,threads,read_every — real_time_factor is dt over the
+// wall time of one step (≥ 1: real time); cpu_ns_per_body_step is the calling thread's CPU time
+// per body-step (with several threads, only its own share); threads is WorldConfig::threads;
+// read_every the steps between reads of every state (world layer; 0 never; the dynamics layer
+// has every state current after every step: 1).
 
 #include <algorithm>
 #include <chrono>
@@ -164,9 +166,19 @@ Timing timeSteps(Stepper& stepper, long steps, int reps) {
   return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
+// The World's steps, with every state made current every `read_every` steps (0: never) by
+// World::data(), as any report does: coasting bodies (src/sim/coasting.h) take no step and are
+// evaluated only when read, so the cost depends on how often the states are read.
 struct WorldStepper {
   sim::World& world;
-  void step(long n) { world.step(static_cast<std::uint64_t>(n)); }
+  long read_every;
+  void step(long n) {
+    for (long k = 0; k < n; ++k) {
+      world.step();
+      if (read_every > 0 && world.stepCount() % static_cast<std::uint64_t>(read_every) == 0)
+        (void)world.data();
+    }
+  }
 };
 
 void usage() {
@@ -178,6 +190,8 @@ void usage() {
       "  --integrators a,b    (default auto,cga2,cga4)\n"
       "  --layers a,b         world, dynamics (default both)\n"
       "  --threads 1,2        threads of the world layer (default 1; the dynamics layer: 1)\n"
+      "  --read-every 1,10    world layer: states read every K steps, 0 = never (default 10:\n"
+      "                       the node's ~publish_rate 100 Hz at dt = 1 ms)\n"
       "  --body-steps S       body-steps per timing run (default 1000000)\n"
       "  --reps R             timing repetitions, median (default 3)\n"
       "  --dt DT              step, s (default 0.001)\n"
@@ -191,6 +205,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> integrators = {"auto", "cga2", "cga4"};
   std::vector<std::string> layers = {"world", "dynamics"};
   std::vector<int> thread_counts = {1};
+  std::vector<long> read_everys = {10};
   long body_steps = 1000000;
   int reps = 3;
   double dt = 1e-3;
@@ -219,6 +234,10 @@ int run(int argc, char** argv) {
       thread_counts.clear();
       for (const std::string& t : splitList(next()))
         thread_counts.push_back(std::max(1, std::atoi(t.c_str())));
+    } else if (a == "--read-every") {
+      read_everys.clear();
+      for (const std::string& t : splitList(next()))
+        read_everys.push_back(std::max(0L, std::atol(t.c_str())));
     } else if (a == "--body-steps") {
       body_steps = std::max(1L, std::atol(next().c_str()));
     } else if (a == "--reps") {
@@ -240,7 +259,7 @@ int run(int argc, char** argv) {
   }
   std::fprintf(csv,
                "layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,real_time_factor,"
-               "cpu_ns_per_body_step,threads\n");
+               "cpu_ns_per_body_step,threads,read_every\n");
   const double lambda = 1.0;
   const auto t_start = Clock::now();
   for (int n : ns) {
@@ -248,43 +267,45 @@ int run(int argc, char** argv) {
     const long steps = std::max(5L, (body_steps + n - 1) / n);
     for (const std::string& integrator : integrators) {
       for (const std::string& layer : layers) {
-        for (int threads : layer == "world" ? thread_counts : std::vector<int>{1}) {
-          Timing t;
-          bool finite = true;
-          if (layer == "world") {
-            sim::WorldConfig config;
-            config.dt = dt;
-            config.integrator = integrator;
-            config.threads = threads;
-            auto world = sim::World::create(makeScene(bodies, lambda), config);
-            if (!world) {
-              std::fprintf(stderr, "World::create: %s\n", world.error().c_str());
+        for (int threads : layer == "world" ? thread_counts : std::vector<int>{1})
+          for (long read_every : layer == "world" ? read_everys : std::vector<long>{1}) {
+            Timing t;
+            bool finite = true;
+            if (layer == "world") {
+              sim::WorldConfig config;
+              config.dt = dt;
+              config.integrator = integrator;
+              config.threads = threads;
+              auto world = sim::World::create(makeScene(bodies, lambda), config);
+              if (!world) {
+                std::fprintf(stderr, "World::create: %s\n", world.error().c_str());
+                return 2;
+              }
+              WorldStepper stepper{**world, read_every};
+              t = timeSteps(stepper, steps, reps);
+            } else if (layer == "dynamics") {
+              BareLoop loop(bodies, integrator, lambda, dt);
+              t = timeSteps(loop, steps, reps);
+              finite = loop.allFinite();
+            } else {
+              std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
               return 2;
             }
-            WorldStepper stepper{**world};
-            t = timeSteps(stepper, steps, reps);
-          } else if (layer == "dynamics") {
-            BareLoop loop(bodies, integrator, lambda, dt);
-            t = timeSteps(loop, steps, reps);
-            finite = loop.allFinite();
-          } else {
-            std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
-            return 2;
+            const double ns_step = t.wall_ns / double(steps);
+            const double cpu_body = t.cpu_ns / double(steps) / double(n);
+            const double ns_body = ns_step / double(n);
+            const double rtf = dt / (ns_step * 1e-9);
+            std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g,%d,%ld\n", layer.c_str(),
+                         integrator.c_str(), n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body,
+                         threads, read_every);
+            std::fflush(csv);
+            std::fprintf(
+                stderr,
+                "[scaling] %-8s %-5s N=%-6d T=%d read/%-3ld %8.1f ns/body-step (cpu %8.1f)  "
+                "%9.4f ms/step  RTF %.3g%s\n",
+                layer.c_str(), integrator.c_str(), n, threads, read_every, ns_body, cpu_body,
+                ns_step * 1e-6, rtf, finite ? "" : "  NOT FINITE");
           }
-          const double ns_step = t.wall_ns / double(steps);
-          const double cpu_body = t.cpu_ns / double(steps) / double(n);
-          const double ns_body = ns_step / double(n);
-          const double rtf = dt / (ns_step * 1e-9);
-          std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g,%d\n", layer.c_str(),
-                       integrator.c_str(), n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body,
-                       threads);
-          std::fflush(csv);
-          std::fprintf(stderr,
-                       "[scaling] %-8s %-5s N=%-6d T=%d %8.1f ns/body-step (cpu %8.1f)  %9.4f "
-                       "ms/step  RTF %.3g%s\n",
-                       layer.c_str(), integrator.c_str(), n, threads, ns_body, cpu_body,
-                       ns_step * 1e-6, rtf, finite ? "" : "  NOT FINITE");
-        }
       }
     }
   }

@@ -14,7 +14,8 @@ struct Bodies {
 void syncRange(void* context, std::size_t begin, std::size_t end) {
   const Model& model = *static_cast<Bodies*>(context)->model;
   Data& data = *static_cast<Bodies*>(context)->data;
-  for (std::size_t i = begin; i < end; ++i) syncBody(model, data.bodies[i], static_cast<int>(i));
+  for (std::size_t i = begin; i < end; ++i)
+    syncBody(model, data.bodies[i], static_cast<int>(i), data.step_count);
 }
 
 }  // namespace
@@ -23,21 +24,21 @@ bool mayCoast(const Model& model, const MovingBodyData& b, int i) {
   // Contacts read the pose of every body with a shape at every step (contact_detection.cc);
   // trees and curved space have steps of their own.
   return !model.curved_space && model.tree_of_moving[i] < 0 &&
-         b.contact_step == MovingBodyData::ContactStep::kNone && model.bodyOf(i).shapes.empty() &&
-         b.integrator->coasts(b.loads);
+         b.contact_step == MovingBodyData::ContactStep::kNone && b.integrator->coasts(b.loads) &&
+         model.bodyOf(i).shapes.empty();
 }
 
-void syncBody(const Model& model, MovingBodyData& b, int i) {
-  if (!b.coast.active || b.coast.synced == b.coast.steps) return;
+void syncBody(const Model& model, MovingBodyData& b, int i, std::uint64_t now) {
+  if (!b.coast.active || b.coast.synced == now) return;
   b.integrator->coast(model.moving[i].inertia, b.loads, model.lambda, model.config.dt,
-                      static_cast<double>(b.coast.steps), b.coast.from, b.state);
-  b.coast.synced = b.coast.steps;
+                      static_cast<double>(now - b.coast.start), b.coast.from, b.state);
+  b.coast.synced = now;
 }
 
 void syncBodies(const Model& model, Data& data, WorkerPool* pool) {
   std::size_t stale = 0;
   for (const MovingBodyData& b : data.bodies)
-    stale += b.coast.active && b.coast.synced != b.coast.steps;
+    stale += b.coast.active && b.coast.synced != data.step_count;
   if (stale == 0) return;
   Bodies bodies{&model, &data};
   const std::size_t n = data.bodies.size();
@@ -49,9 +50,9 @@ void syncBodies(const Model& model, Data& data, WorkerPool* pool) {
   }
 }
 
-void endCoast(const Model& model, MovingBodyData& b, int i) {
+void endCoast(const Model& model, MovingBodyData& b, int i, std::uint64_t now) {
   if (!b.coast.active) return;
-  syncBody(model, b, i);
+  syncBody(model, b, i, now);
   b.coast = MovingBodyData::Coast();
   b.integrator->reset();
 }

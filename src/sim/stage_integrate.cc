@@ -52,15 +52,9 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       }
       continue;
     }
-    // Coasting (coasting.h): counted, not stepped, while nothing but its closed form moves it.
-    if (b.coast.active) {
-      if (mayCoast(model, b, static_cast<int>(i))) {
-        ++b.coast.steps;
-        b.last_path = StepPath::kStepped;
-        continue;
-      }
-      endCoast(model, b, static_cast<int>(i));  // its loads changed: stepped from here on
-    }
+    // Coasting (coasting.h): nothing to do. Whatever could end a coast — an input, an edit,
+    // a change of its loads — ends it where it happens.
+    if (b.coast.active) continue;
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution
     // is M(t) = M): it is skipped, its state left exactly as it is.
     const bool rest = dynamics::isAtRest(b.loads, b.state.omega_B);
@@ -68,8 +62,8 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       b.integrator->reset();  // the coast's cache is built from `from`
       b.coast.active = true;
       b.coast.from = b.state;
-      b.coast.steps = 1;
-      b.coast.synced = 0;
+      b.coast.start = data.step_count;  // this step's start: the state is one step behind
+      b.coast.synced = data.step_count;
       b.last_path = StepPath::kStepped;
       continue;
     }

@@ -92,7 +92,7 @@ Result<BodyStateReport> World::getBodyState(const std::string& body) const {
   const int j = impl_->model.resolveBody(body);
   if (j < 0) return Error("get_body_state", "body", "unknown body '" + body + "'");
   if (const int i = impl_->model.moving_of_body[j]; i >= 0)
-    syncBody(impl_->model, impl_->data.bodies[i], i);
+    syncBody(impl_->model, impl_->data.bodies[i], i, impl_->data.step_count);
   return bodyStateReport(impl_->model, impl_->data, j);
 }
 

@@ -106,8 +106,8 @@ TEST(WorldCoasting, FollowsTheExactFlowThroughAnImpulse) {
   w->step(400);
   EXPECT_TRUE(w->data().bodies[0].coast.active);  // coasting, also after a read
   w->step(1200);
-  EXPECT_TRUE(w->data().bodies[0].coast.active);  // coasting again after the impulse
-  EXPECT_EQ(w->data().bodies[0].coast.steps, 800u);
+  EXPECT_TRUE(w->data().bodies[0].coast.active);     // coasting again after the impulse
+  EXPECT_EQ(w->data().bodies[0].coast.start, 800u);  // from the impulse's step
 
   const double lambda = 1.0;
   const dynamics::Inertia I = *dynamics::Inertia::fromPrincipal("box", 3.0, {0.1, 0.2, 0.25});

@@ -60,8 +60,8 @@ struct MovingBodyData {
   /// `state` is then evaluated from `from` and the steps since, when it is read.
   struct Coast {
     bool active = false;
-    std::uint64_t steps = 0;   ///< steps taken since `from`
-    std::uint64_t synced = 0;  ///< `state` is the state `synced` steps after `from`
+    std::uint64_t start = 0;   ///< Data::step_count when `from` was the state
+    std::uint64_t synced = 0;  ///< `state` is the state at this step count
     dynamics::BodyState from;  ///< the state the coast started at
   };
   Coast coast;
