@@ -288,32 +288,64 @@ def plot_work_precision(rows, case, metric, path, ylabel, floor=None):
     return run_gnuplot(script, path)
 
 
+def scaling_key(r):
+    """(layer, integrator, threads, read_every) of a scaling row; older CSVs lack the last two."""
+    return (r["layer"], r["integrator"], int(num(r.get("threads") or 1)),
+            int(num(r.get("read_every") or 1)))
+
+
+def scaling_label(key):
+    layer, integ, threads, read_every = key
+    if layer != "world":
+        return "bare loop, %s" % integ
+    reads = "read every step" if read_every == 1 else (
+        "never read" if read_every == 0 else "read every %d steps" % read_every)
+    return "World, %s, %d thread%s, %s" % (integ, threads, "" if threads == 1 else "s", reads)
+
+
+def scaling_keys(rows):
+    """The keys to show: for integrators that do not coast (all but auto and exact), reading
+    changes nothing, so only their most frequent read is kept."""
+    keys = []
+    for r in rows:
+        k = scaling_key(r)
+        if k not in keys:
+            keys.append(k)
+    coasting = {"auto", "exact"}
+    shown = []
+    for k in keys:
+        if k[0] == "world" and k[1] not in coasting:
+            reads = sorted({x[3] for x in keys if x[:3] == k[:3]},
+                           key=lambda v: (v == 0, -v))  # 10 before 1; 0 (never) last
+            if k[3] != reads[0]:
+                continue
+        shown.append(k)
+    return shown
+
+
 def plot_scaling(rows, path):
     rows = [r for r in rows if math.isfinite(num(r["ns_per_body_step"]))]
     if not rows:
         return False
-    keys = []
-    for r in rows:
-        k = (r["layer"], r["integrator"])
-        if k not in keys:
-            keys.append(k)
+    keys = scaling_keys(rows)
     script = plot_header(path, "ns per body-step against the number of free bodies (dt = 1 ms)",
-                         "number of bodies N", "ns per body-step", 1100, 650)
+                         "number of bodies N", "ns per body-step (wall)", 1100, 700)
     plots = []
-    for i, (layer, integ) in enumerate(keys):
-        pts = sorted([r for r in rows if (r["layer"], r["integrator"]) == (layer, integ)],
-                     key=lambda r: int(r["n_bodies"]))
+    for i, key in enumerate(keys):
+        layer, integ, threads, read_every = key
+        pts = sorted([r for r in rows if scaling_key(r) == key], key=lambda r: int(r["n_bodies"]))
         script += "$d%d << EOD\n" % i
         for r in pts:
             script += "%s %s\n" % (r["n_bodies"], r["ns_per_body_step"])
         script += "EOD\n"
-        style = 'lw 2.2 dt %d pt %d lc rgb "%s"' % (1 if layer == "world" else 2,
-                                                   7 if layer == "world" else 6,
+        dash = 2 if layer != "world" else (1 if read_every != 1 else 4)
+        point = 6 if layer != "world" else (7 if threads == 1 else 5)
+        style = 'lw %g dt %d pt %d lc rgb "%s"' % (2.2 if threads == 1 else 1.4, dash, point,
                                                    OUR_COLORS.get(integ, "#000000"))
-        plots.append('$d%d using 1:2 with linespoints %s title "%s, %s"' % (
-            i, style, integ, "sim::World" if layer == "world" else "bare dynamics loop"))
-    ys = [num(r["ns_per_body_step"]) for r in rows]
-    script += "set yrange [%g:%g]\n" % (min(10.0, 10 ** math.floor(math.log10(min(ys)))),
+        plots.append('$d%d using 1:2 with linespoints %s title "%s"' % (i, style,
+                                                                        scaling_label(key)))
+    ys = [num(r["ns_per_body_step"]) for r in rows if scaling_key(r) in keys]
+    script += "set yrange [%g:%g]\n" % (min(1.0, 10 ** math.floor(math.log10(min(ys)))),
                                          10 ** math.ceil(math.log10(max(ys)) + 0.5))
     # One step of N bodies in dt = 1 ms of wall time: dt/N per body-step.
     plots.append('1e6/x with lines lw 1.5 dt 3 lc rgb "#777777" title "real-time limit, dt/N"')
@@ -645,6 +677,8 @@ def main():
     scaling = read_csv(os.path.join(args.out, "scaling.csv"))
     if args.clock == "cpu":
         for r in scaling:
+            if int(num(r.get("threads") or 1)) > 1:
+                continue  # the stepping thread's CPU is only its share: wall time it is
             n = num(r["n_bodies"])
             dt = num(r["real_time_factor"]) * num(r["ms_per_step"]) * 1e-3  # RTF = dt / step
             r["ns_per_body_step"] = r.get("cpu_ns_per_body_step", "nan")
@@ -709,8 +743,13 @@ def main():
             "squares over the axes), computed with the reference integrator in long double. "
             "\"At the floor\" below means within %g× of it." % AT_FLOOR,
             "* **Scaling** (`bench_scaling`, `bench/out/scaling.csv`): N free asymmetric boxes "
-            "with random spins (fixed seed, no gravity), dt = 1 ms, through `sim::World` and "
-            "through the bare dynamics loop over contiguous arrays.",
+            "with random spins (fixed seed, no gravity), dt = 1 ms, through `sim::World` (on 1 "
+            "and 2 threads, every state read every step or every 10 steps — the node's 100 Hz "
+            "— by `World::data()`; `auto` bodies coast between reads, "
+            "[architecture.md](architecture.md#coasting)) and through the bare dynamics loop "
+            "over contiguous arrays (every body stepped every step); bytes per body: the heap "
+            "each layer holds per body (states, integrators and their caches, the World's copy "
+            "of the scene).",
             "* **Node throughput** (`bench/node_throughput.py`, "
             "`bench/out/node_throughput.csv`): the ROS node on "
             "`scripts/generate_many_bodies.py N` with tf, momentum and /clock at 100 Hz and a "
@@ -774,27 +813,28 @@ def main():
         if plots and plot_scaling(scaling, os.path.join(img_dir, "scaling.png")):
             doc += ["![scaling](img/scaling.png)", ""]
         ns_list = sorted({int(r["n_bodies"]) for r in scaling})
-        keys = []
-        for r in scaling:
-            k = (r["layer"], r["integrator"])
-            if k not in keys:
-                keys.append(k)
+        keys = scaling_keys(scaling)
         table = []
-        for layer, integ in keys:
-            line = ["%s, %s" % ("World" if layer == "world" else "bare loop", integ)]
+        for key in keys:
+            line = [scaling_label(key)]
             for n in ns_list:
-                m = [r for r in scaling if (r["layer"], r["integrator"]) == (layer, integ)
-                     and int(r["n_bodies"]) == n]
+                m = [r for r in scaling if scaling_key(r) == key and int(r["n_bodies"]) == n]
                 line.append(fmt_ns(num(m[0]["ns_per_body_step"])) if m else "–")
+            big = [r for r in scaling if scaling_key(r) == key and num(r.get("bytes_per_body"))
+                   and int(r["n_bodies"]) == ns_list[-1]]
+            line.append("%.0f" % num(big[0]["bytes_per_body"]) if big else "–")
             table.append(line)
-        doc += ["ns per body-step:", "",
-                md_table(["layer, integrator"] + ["N = %d" % n for n in ns_list], table), ""]
-        rt = [r for r in scaling if r["n_bodies"] == "10000"]
+        doc += ["ns per body-step (%s):" % (
+                    "thread CPU time on one thread, wall time on two" if CLOCK == "cpu"
+                    else "wall time"), "",
+                md_table(["layer, integrator, threads, reads"] + ["N = %d" % n for n in ns_list]
+                         + ["bytes per body (N = %d)" % ns_list[-1]], table), ""]
+        rt = [r for r in scaling if r["n_bodies"] == "10000" and scaling_key(r) in keys]
         if rt:
-            doc += ["At N = 10 000 one step takes " + ", ".join(
-                "%s %s: %.2f ms (%.3g× real time)" % (
-                    "World" if r["layer"] == "world" else "bare loop", r["integrator"],
-                    num(r["ms_per_step"]), num(r["real_time_factor"])) for r in rt) + ".", ""]
+            doc += ["At N = 10 000 one step takes " + "; ".join(
+                "%s: %.2f ms (%.3g× real time)" % (
+                    scaling_label(scaling_key(r)), num(r["ms_per_step"]),
+                    num(r["real_time_factor"])) for r in rt) + ".", ""]
     else:
         doc += ["Not measured (no `bench/out/scaling.csv`).", ""]
 

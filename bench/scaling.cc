@@ -18,7 +18,11 @@
 // wall time of one step (≥ 1: real time); cpu_ns_per_body_step is the calling thread's CPU time
 // per body-step (with several threads, only its own share); threads is WorldConfig::threads;
 // read_every the steps between reads of every state (world layer; 0 never; the dynamics layer
-// has every state current after every step: 1).
+// has every state current after every step: 1); bytes_per_body the heap the layer holds per
+// body after the timing (everything it allocated — states, integrators and their caches, the
+// World's copy of the scene — from before its scene was built, divided by N).
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
@@ -144,6 +148,19 @@ class BareLoop {
 
 using bench::sweep::splitList;  // "a,b,c" → {a, b, c} (peers/sweep_util.h)
 
+// Bytes of heap in use (glibc's main arena and its mmapped blocks: every allocation here is
+// made by the main thread — the World's worker threads allocate nothing).
+std::size_t heapInUse() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  return m.uordblks + m.hblkhd;
+#else
+  const struct mallinfo m = mallinfo();
+  return static_cast<std::size_t>(static_cast<unsigned>(m.uordblks)) +
+         static_cast<std::size_t>(static_cast<unsigned>(m.hblkhd));
+#endif
+}
+
 struct Timing {
   double wall_ns = 0;  // median over the repetitions
   double cpu_ns = 0;   // thread CPU time, median (robust to other load on the machine)
@@ -259,7 +276,7 @@ int run(int argc, char** argv) {
   }
   std::fprintf(csv,
                "layer,integrator,n_bodies,steps,ns_per_body_step,ms_per_step,real_time_factor,"
-               "cpu_ns_per_body_step,threads,read_every\n");
+               "cpu_ns_per_body_step,threads,read_every,bytes_per_body\n");
   const double lambda = 1.0;
   const auto t_start = Clock::now();
   for (int n : ns) {
@@ -271,6 +288,8 @@ int run(int argc, char** argv) {
           for (long read_every : layer == "world" ? read_everys : std::vector<long>{1}) {
             Timing t;
             bool finite = true;
+            const std::size_t heap0 = heapInUse();
+            std::size_t heap1 = heap0;
             if (layer == "world") {
               sim::WorldConfig config;
               config.dt = dt;
@@ -283,9 +302,11 @@ int run(int argc, char** argv) {
               }
               WorldStepper stepper{**world, read_every};
               t = timeSteps(stepper, steps, reps);
+              heap1 = heapInUse();
             } else if (layer == "dynamics") {
               BareLoop loop(bodies, integrator, lambda, dt);
               t = timeSteps(loop, steps, reps);
+              heap1 = heapInUse();
               finite = loop.allFinite();
             } else {
               std::fprintf(stderr, "unknown layer '%s' (world, dynamics)\n", layer.c_str());
@@ -295,9 +316,10 @@ int run(int argc, char** argv) {
             const double cpu_body = t.cpu_ns / double(steps) / double(n);
             const double ns_body = ns_step / double(n);
             const double rtf = dt / (ns_step * 1e-9);
-            std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g,%d,%ld\n", layer.c_str(),
+            const double bytes_body = heap1 > heap0 ? double(heap1 - heap0) / n : 0.0;
+            std::fprintf(csv, "%s,%s,%d,%ld,%.6g,%.6g,%.6g,%.6g,%d,%ld,%.6g\n", layer.c_str(),
                          integrator.c_str(), n, steps, ns_body, ns_step * 1e-6, rtf, cpu_body,
-                         threads, read_every);
+                         threads, read_every, bytes_body);
             std::fflush(csv);
             std::fprintf(
                 stderr,

@@ -39,11 +39,14 @@ stamp() { echo "bench.sh: [$(( $(date +%s) - start )) s] $*"; }
 
 # Our step grid is the peers' default (bench/peers/peer_common.cc: 10 steps, 0.1 ms ... 0.1 s;
 # the Simbody runner skips h < 1 ms for time). --quick uses three steps for both.
-ours_args=() peer_args=() scaling_args=() node_args=()
+ours_args=() peer_args=() node_args=()
+# Scaling on one and two threads, every state read every step and every 10 steps (the node at
+# 100 Hz): coasting bodies cost nothing between reads.
+scaling_args=(--threads 1,2 --read-every 1,10)
 if $quick; then
   ours_args=(--hs 1e-3,1e-2,1e-1 --reps 1 --min-timed-steps 20000)
   peer_args=(--hs 1e-3,1e-2,1e-1 --reps 1 --timing-steps 2000)
-  scaling_args=(--ns 1,100,10000 --reps 1 --body-steps 200000)
+  scaling_args=(--ns 1,100,10000 --reps 1 --body-steps 200000 --threads 1,2 --read-every 1,10)
   node_args=(--ns 1,1000 --window 3 --warmup 1)
 fi
 

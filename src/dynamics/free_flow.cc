@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "atan_series.h"
+#include "cga_rigid_sim/dynamics/loads.h"
 #include "elliptic.h"
 #include "sin_cos.h"
 
@@ -382,8 +384,8 @@ inline void advanceSmall(FreeFlowCache& c) {
     // a whole half period turns it by π or more, which this reads 2π short; that changes ψ by
     // 2π γ, and γ = 1 identically (1 to 7e-16 on 10⁵ random bodies), so ψ mod 2π — all the
     // rotor takes — is unchanged.
-    c.run_angle +=
-        std::atan2(c.Ba * c.Bb * (co * sn - s * cn), c.Ba * c.Ba * co * cn + c.Bb * c.Bb * s * sn);
+    c.run_angle += atan2NearZero(c.Ba * c.Bb * (co * sn - s * cn),
+                                 c.Ba * c.Ba * co * cn + c.Bb * c.Bb * s * sn);
   }
   c.run_sn = sn;
   c.run_cn = cn;
@@ -414,7 +416,7 @@ void stepInRun(FreeFlowCache& c, double t, double h, double& sn, double& cn, dou
   }
   const double ss = s_old * c.step_sn;
   const double den = 1.0 - c.nchar * (c.run_sn * c.run_sn) + c.nchar * ss * c.run_cn * c.run_dn;
-  c.run_atan += std::atan(c.add_B * ss * c.run_sn / den);
+  c.run_atan += atanNearZero(c.add_B * ss * c.run_sn / den);
   const double j = ++c.run_steps;
   c.psi = reduceAngle(c.run_psi0 +
                       (c.rate * (j * h) + c.coef_pi * (j * c.step_P - c.add_A * c.run_atan) +
@@ -666,7 +668,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   state.omega_B.rot = w_new;
   // A body that neither spins nor falls keeps v_B bit for bit (no round trip through v_W).
   if (c.path != Path::kStill || !g_W.isZero(0.0))
-    state.omega_B.trans = (r.conjugate() * v_W) / lambda;
+    state.omega_B.trans = Loads::toBody(r, v_W) / lambda;  // R̃ v_W, inlined
   c.key_J = J;
   c.key_r = r.coeffs();
   c.key_w = w_new;
@@ -721,7 +723,7 @@ void freeFlowAt(const Inertia& inertia, double lambda, double h, double steps,
   out.M_WB = cga::Motor::fromPose(r, x_W, lambda);
   out.omega_B.rot = w_new;
   out.omega_B.trans = c.path != Path::kStill || !g_W.isZero(0.0)
-                          ? Eigen::Vector3d((r.conjugate() * v_W) / lambda)
+                          ? Eigen::Vector3d(Loads::toBody(r, v_W) / lambda)
                           : Eigen::Vector3d(from.omega_B.trans);
 }
 
