@@ -353,8 +353,9 @@ def main():
                     help="more runs N:integrator[,N:integrator] (both real-time factors); "
                          "'' for none")
     ap.add_argument("--node", default=DEFAULT_NODE)
-    ap.add_argument("--counter", default=DEFAULT_COUNTER,
-                    help="the subscriber that counts (bench_topic_counter); if absent, rospy")
+    ap.add_argument("--counter", default=None,
+                    help="the subscriber that counts (default: bench_topic_counter next to "
+                         "--node, else in this checkout's build); if absent, rospy counts")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
     args = ap.parse_args()
     ns = [int(x) for x in args.ns.split(",") if x]
@@ -364,6 +365,9 @@ def main():
         n, integrator = item.split(":")
         runs.append((int(n), integrator))
     csv_path = os.path.join(args.out, "node_throughput.csv")
+    if args.counter is None:
+        beside = os.path.join(os.path.dirname(os.path.abspath(args.node)), "bench_topic_counter")
+        args.counter = beside if os.path.isfile(beside) else DEFAULT_COUNTER
 
     if not (os.path.isfile(args.node) and os.access(args.node, os.X_OK)):
         why = "skipped: the node is not built (%s)" % os.path.relpath(args.node, ROOT)
