@@ -412,6 +412,20 @@ void fillTfMessage(const std::vector<sim::FramePose>& frames, const ::ros::Time&
       });
 }
 
+void fillTfMessage(const std::vector<sim::BodyStateReport>& states, const std::string& world_frame,
+                   const ::ros::Time& stamp, bool names, tf2_msgs::TFMessage* msg) {
+  fillItems(
+      states, names, &msg->transforms,
+      [&world_frame](const sim::BodyStateReport& r, geometry_msgs::TransformStamped* m) {
+        m->header.frame_id = world_frame;
+        m->child_frame_id = r.name;
+      },
+      [&stamp](const sim::BodyStateReport& r, geometry_msgs::TransformStamped* m) {
+        m->header.stamp = stamp;
+        m->transform = toTransformMsg(r.pose_root);
+      });
+}
+
 void fillMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports, const ::ros::Time& stamp,
                           const std::string& world_frame, bool names,
                           cga_rigid_sim::MomentumArray* msg) {

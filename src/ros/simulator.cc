@@ -221,9 +221,16 @@ void Simulator::publishOutputs() {
   // Messages nobody subscribes to are not even built (10 000 bodies make megabytes per tick).
   // Those of many bodies are overwritten in place (names only when the bodies changed) and
   // published by pointer: serialised once for all subscribers, never copied.
+  const bool want_states = body_states_pub_.getNumSubscribers() > 0;
+  std::vector<sim::BodyStateReport> states;
+  if (want_states) states = world_->bodyStates();
   if (tf_pub_.getNumSubscribers() > 0) {
     const bool names = tf_msg_.namesChangedFor(topology);
-    fillTfMessage(world_->movingFrames(), stamp, names, &tf_msg_.writable());
+    // The body states hold every moving root link's pose: with both wanted, one read serves.
+    if (want_states)
+      fillTfMessage(states, world_frame, stamp, names, &tf_msg_.writable());
+    else
+      fillTfMessage(world_->movingFrames(), stamp, names, &tf_msg_.writable());
     if (!tf_msg_.ptr()->transforms.empty()) tf_pub_.publish(tf_msg_.ptr());
     tf_msg_sent_ = true;
   }
@@ -235,10 +242,9 @@ void Simulator::publishOutputs() {
   if (world_->config().curvature && curved_momentum_pub_.getNumSubscribers() > 0)
     curved_momentum_pub_.publish(toCurvedMomentumArrayMsg(
         world_->curvedMomentum(), *world_->config().curvature, stamp, world_frame));
-  if (body_states_pub_.getNumSubscribers() > 0) {
+  if (want_states) {
     const bool names = body_states_msg_.namesChangedFor(topology);
-    fillBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame, names,
-                          &body_states_msg_.writable());
+    fillBodyStateArrayMsg(states, stamp, world_frame, names, &body_states_msg_.writable());
     body_states_pub_.publish(body_states_msg_.ptr());
   }
   if (contacts_pub_.getNumSubscribers() > 0)

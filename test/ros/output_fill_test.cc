@@ -5,15 +5,22 @@
 // — equal bytes mean equal messages — and the names and counts written out by hand. The cases
 // are those of a running node: the first tick, ticks with moved bodies, a body spawned, a body
 // deleted and another spawned under a new name at the same count (the names must follow the
-// topology version), and a tick without subscribers skipped in between.
+// topology version), and a tick without subscribers skipped in between. tf made from the body
+// states (the node's way when both are subscribed) against World::movingFrames() of real
+// Worlds: free bodies with merged links, an articulated tree, a spawn and a delete.
 #include <gtest/gtest.h>
 #include <ros/serialization.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "cga_rigid_sim/ros/conversions.h"
+#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {
 namespace node {
@@ -150,6 +157,53 @@ TEST(OutputFill, NamesAreWrittenOnlyWhenAskedOrWhenTheCountChanges) {
   ASSERT_EQ(tf.transforms.size(), 3u);
   EXPECT_EQ(tf.transforms[0].child_frame_id, "x");
   EXPECT_EQ(tf.transforms[2].child_frame_id, "w");
+}
+
+// tf from the body states equals tf from the moving frames, byte for byte (same order, names
+// and poses), through stepping, a spawn and a delete.
+void expectTfFromStatesIsMovingFrames(const sim::World& world, const std::string& when) {
+  const ::ros::Time stamp(0.25);
+  tf2_msgs::TFMessage from_states;
+  fillTfMessage(world.bodyStates(), world.config().world_frame, stamp, true, &from_states);
+  EXPECT_FALSE(from_states.transforms.empty()) << when;
+  EXPECT_EQ(bytesOf(from_states), bytesOf(toTfMessage(world.movingFrames(), stamp))) << when;
+}
+
+std::unique_ptr<sim::World> worldOf(const std::string& urdf_file) {
+  auto scene = scene::loadUrdfFile(std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/" + urdf_file,
+                                   scene::SceneOptions{});
+  EXPECT_TRUE(scene) << scene.error();
+  auto world = sim::World::create(std::move(*scene), sim::WorldConfig{});
+  EXPECT_TRUE(world) << world.error();
+  return std::move(*world);
+}
+
+TEST(OutputFill, TfFromBodyStatesIsTheMovingFrames) {
+  // Free bodies, one with a link merged by a fixed joint (its root link is not at its centre of
+  // mass), and a static table (no moving frame).
+  auto bodies = worldOf("test/ros/bodies.urdf");
+  ASSERT_TRUE(bodies);
+  expectTfFromStatesIsMovingFrames(*bodies, "bodies.urdf at start");
+  bodies->step(200);
+  expectTfFromStatesIsMovingFrames(*bodies, "bodies.urdf after 200 steps");
+  std::ifstream rod_file(std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/thin_rod.urdf");
+  const std::string rod((std::istreambuf_iterator<char>(rod_file)), {});
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(1.0, 2.0, 3.0);
+  auto spawned = bodies->spawnUrdf("probe", rod, pose, Eigen::Vector3d(0.1, 0, 0),
+                                   Eigen::Vector3d(0, 0.5, 2.0));
+  ASSERT_TRUE(spawned) << spawned.error();
+  bodies->step(10);
+  expectTfFromStatesIsMovingFrames(*bodies, "after a spawn");
+  ASSERT_TRUE(bodies->deleteBody("box"));
+  bodies->step(10);
+  expectTfFromStatesIsMovingFrames(*bodies, "after a delete");
+
+  // An articulated tree: every link is a moving body with its own frame.
+  auto pendulum = worldOf("urdf/double_pendulum.urdf");
+  ASSERT_TRUE(pendulum);
+  pendulum->step(300);
+  expectTfFromStatesIsMovingFrames(*pendulum, "double_pendulum.urdf after 300 steps");
 }
 
 }  // namespace

@@ -152,6 +152,12 @@ tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,
 // may have changed (World::topologyVersion()); the numbers and stamps are written every time.
 void fillTfMessage(const std::vector<sim::FramePose>& frames, const ::ros::Time& stamp, bool names,
                    tf2_msgs::TFMessage* msg);
+/// tf of the moving frames made from the body states instead (World::bodyStates(): a body's
+/// name is its root link's name, pose_root that link's pose in the world): the transforms of
+/// World::movingFrames(), in its order, without reading the World a second time when the node
+/// publishes both.
+void fillTfMessage(const std::vector<sim::BodyStateReport>& states, const std::string& world_frame,
+                   const ::ros::Time& stamp, bool names, tf2_msgs::TFMessage* msg);
 void fillMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports, const ::ros::Time& stamp,
                           const std::string& world_frame, bool names,
                           cga_rigid_sim::MomentumArray* msg);
