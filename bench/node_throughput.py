@@ -2,19 +2,25 @@
 """Node throughput: steps per second of the ROS node `simulator` on many free bodies.
 
     /usr/bin/python3 bench/node_throughput.py [--ns 1,100,1000,10000] [--rtfs 0,1]
-        [--extra 10000:cga2] [--window 8] [--warmup 2] [--node PATH] [--out bench/out]
+        [--extra 10000:cga2] [--window 8] [--warmup 2] [--node PATH] [--counter PATH]
+        [--out bench/out]
 
 For every N and every ~real_time_factor (0 = as fast as possible, 1 = real time) the script
 starts the node on the scene of `scripts/generate_many_bodies.py N` (with its --initial-state
 spins; if the script is missing, an equivalent scene is generated here) with dt = 1 ms,
-integrator auto (plus the --extra runs, by default N = 10000 with cga2), tf, ~momentum and
-/clock published at 100 Hz of simulated time, and a subscriber attached to /tf and ~momentum
-(raw messages, so the Python side costs little; the node still serialises and sends every
-message; the subscriber drops what it cannot keep up with, so the received rates can be lower
-than the published ones). After the first /clock message and a warm-up, it watches /clock for a
-window of wall time: the simulated time gained over the wall time between the first and last
-/clock message received in the window is the achieved real-time factor; divided by dt, the
-steps per second. Results go to bench/out/node_throughput.csv.
+integrator auto (plus the --extra runs, by default N = 10000 with cga2), ~threads at its
+default (the cores available), tf, ~momentum, ~body_states and /clock published at 100 Hz of
+simulated time, and a subscriber attached to /tf, ~momentum and ~body_states. That subscriber
+is bench_topic_counter (bench/topic_counter.cc, built with the benchmarks), which counts the
+messages and bytes without deserialising them, so the benchmark measures the node rather than
+its receiver; when it is not built, a rospy subscriber of raw messages stands in (it takes
+about half a core at N = 10 000, which the node then lacks). The node still serialises and
+sends every message; a subscriber drops what it cannot keep up with, so the received rates can
+be lower than the published ones. After the first /clock message and a warm-up, the script
+watches /clock for a window of wall time: the simulated time gained over the wall time between
+the first and last /clock message received in the window is the achieved real-time factor;
+divided by dt, the steps per second. Results go to bench/out/node_throughput.csv (with the
+node's thread count, as it logs it, and which subscriber counted).
 
 Everything runs against a private roscore on a free port (ROS_HOME in a temporary directory), so
 other ROS work on the machine is not disturbed. Every process started here (roscore and its
@@ -28,6 +34,7 @@ import atexit
 import csv
 import math
 import os
+import re
 import shutil
 import signal
 import socket
@@ -39,9 +46,14 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_NODE = os.path.join(ROOT, "build", "ws", "devel", "lib", "cga_rigid_sim", "simulator")
-COLUMNS = ["n_bodies", "real_time_factor", "publish_rate_hz", "integrator", "dt", "window_s",
-           "sim_s", "steps_per_s", "achieved_rtf", "ns_per_body_step", "tf_received_per_s",
-           "tf_received_mb_per_s", "momentum_received_per_s", "status"]
+DEFAULT_COUNTER = os.path.join(ROOT, "build", "ws", "devel", "lib", "cga_rigid_sim",
+                               "bench_topic_counter")
+COLUMNS = ["n_bodies", "real_time_factor", "publish_rate_hz", "integrator", "dt", "threads",
+           "window_s", "sim_s", "steps_per_s", "achieved_rtf", "ns_per_body_step",
+           "tf_received_per_s", "tf_received_mb_per_s", "momentum_received_per_s",
+           "body_states_received_per_s", "body_states_received_mb_per_s", "subscriber", "status"]
+# The counted topics, in the order of the counts (node name "simulator").
+COUNTED_TOPICS = ["/tf", "/simulator/momentum", "/simulator/body_states"]
 
 _children = []  # Popen objects of the process groups we started
 
@@ -160,41 +172,103 @@ def make_scene(n, tmp):
 # ---------------------------------------------------------------------------------------------
 
 class Monitor:
-    """/clock samples (wall time of arrival, sim time) and message counts on /tf, ~momentum."""
+    """/clock samples (wall time of arrival, sim time), in rospy (100 Hz: cheap)."""
 
-    def __init__(self, rospy, Clock, AnyMsg, node_name):
+    def __init__(self, rospy, Clock):
         self.lock = threading.Lock()
         self.last_clock = None  # (wall, sim)
-        self.tf_msgs = self.tf_bytes = self.momentum_msgs = 0
-        kw = {"queue_size": 1, "tcp_nodelay": True}
-        self.subs = [rospy.Subscriber("/clock", Clock, self.on_clock, **kw),
-                     rospy.Subscriber("/tf", AnyMsg, self.on_tf, **kw),
-                     rospy.Subscriber("/%s/momentum" % node_name, AnyMsg, self.on_momentum, **kw)]
+        self.sub = rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1,
+                                    tcp_nodelay=True)
 
     def on_clock(self, msg):
         now = time.monotonic()
         with self.lock:
             self.last_clock = (now, msg.clock.to_sec())
 
-    def on_tf(self, msg):
+    def clock(self):
         with self.lock:
-            self.tf_msgs += 1
-            self.tf_bytes += len(msg._buff)
-
-    def on_momentum(self, _msg):
-        with self.lock:
-            self.momentum_msgs += 1
-
-    def snapshot(self):
-        with self.lock:
-            return self.last_clock, self.tf_msgs, self.tf_bytes, self.momentum_msgs
+            return self.last_clock
 
     def reset(self):
         with self.lock:
             self.last_clock = None
 
 
-def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env, integrator):
+class CounterProcess:
+    """Message and byte counts of COUNTED_TOPICS from bench_topic_counter, which prints a line
+    "counts <monotonic s> <msgs> <bytes> ..." every 100 ms; the latest line is kept."""
+
+    name = "bench_topic_counter"
+
+    def __init__(self, path, log_path, env):
+        self.lock = threading.Lock()
+        self.time = time.monotonic()
+        self.counts = [0] * (2 * len(COUNTED_TOPICS))
+        self.log_path = log_path
+        self.proc = subprocess.Popen([path] + COUNTED_TOPICS, stdout=subprocess.PIPE,
+                                     stderr=open(log_path, "w"), env=env,
+                                     start_new_session=True, text=True)
+        _children.append(self.proc)
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self):
+        for line in self.proc.stdout:
+            fields = line.split()
+            if len(fields) == 2 + len(self.counts) and fields[0] == "counts":
+                with self.lock:
+                    self.time = float(fields[1])
+                    self.counts = [int(x) for x in fields[2:]]
+
+    def snapshot(self):
+        """(monotonic time of the counts, [(messages, bytes) per topic]), cumulative."""
+        if self.proc.poll() is not None:
+            raise RuntimeError("bench_topic_counter exited with code %d (log: %s)" % (
+                self.proc.returncode, self.log_path))
+        with self.lock:
+            t, c = self.time, list(self.counts)
+        return t, [(c[2 * i], c[2 * i + 1]) for i in range(len(COUNTED_TOPICS))]
+
+
+class RospyCounter:
+    """The fallback when bench_topic_counter is not built: rospy raw (AnyMsg) subscribers."""
+
+    name = "rospy AnyMsg"
+
+    def __init__(self, rospy, AnyMsg):
+        self.lock = threading.Lock()
+        self.counts = [[0, 0] for _ in COUNTED_TOPICS]
+        self.subs = [rospy.Subscriber(t, AnyMsg, self._counter(i), queue_size=1,
+                                      tcp_nodelay=True)
+                     for i, t in enumerate(COUNTED_TOPICS)]
+
+    def _counter(self, i):
+        def on_msg(msg):
+            with self.lock:
+                self.counts[i][0] += 1
+                self.counts[i][1] += len(msg._buff)
+        return on_msg
+
+    def snapshot(self):
+        with self.lock:
+            return time.monotonic(), [tuple(c) for c in self.counts]
+
+
+def node_threads(log_path):
+    """The thread count from the node's first log line ("simulator: dt ... s; N threads; ...")."""
+    try:
+        with open(log_path) as f:
+            for line in f:
+                m = re.search(r"simulator: dt [^;]*; (\d+) threads?;", line)
+                if m:
+                    return m.group(1)
+    except OSError:
+        pass
+    return ""
+
+
+def measure(rospy, monitor, counter, node_proc, args, n, rtf, urdf, state_yaml, tmp, env,
+            integrator):
     import yaml  # python3-yaml, a rospy dependency
 
     name = "simulator"
@@ -210,14 +284,14 @@ def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env,
     rospy.set_param("/" + name, params)
     monitor.reset()
     row = {"n_bodies": n, "real_time_factor": rtf, "publish_rate_hz": args.publish_rate,
-           "integrator": integrator, "dt": args.dt}
+           "integrator": integrator, "dt": args.dt, "subscriber": counter.name}
     log_path = os.path.join(tmp, "node_%d_%s_%s.log" % (n, rtf, integrator))
     proc = start([node_proc, "__name:=" + name], log_path, env)
     try:
         # Up: the first /clock after t = 0 (loading 10 000 bodies takes a while).
         deadline = time.monotonic() + args.start_timeout
         while True:
-            clock = monitor.snapshot()[0]
+            clock = monitor.clock()
             if clock is not None and clock[1] > 0:
                 break
             if proc.poll() is not None:
@@ -228,10 +302,11 @@ def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env,
                 row["status"] = "no /clock within %g s (log: %s)" % (args.start_timeout, log_path)
                 return row
             time.sleep(0.05)
+        row["threads"] = node_threads(log_path)
         time.sleep(args.warmup)
-        c0, tf0, tfb0, m0 = monitor.snapshot()
+        c0, n0 = monitor.clock(), counter.snapshot()
         time.sleep(args.window)
-        c1, tf1, tfb1, m1 = monitor.snapshot()
+        c1, n1 = monitor.clock(), counter.snapshot()
         if proc.poll() is not None:
             row["status"] = "node exited with code %d (log: %s)" % (proc.returncode, log_path)
             return row
@@ -244,11 +319,18 @@ def measure(rospy, monitor, node_proc, args, n, rtf, urdf, state_yaml, tmp, env,
         steps = rate / args.dt
         if float(rtf) == 0:  # as fast as possible: the wall time per body-step
             row["ns_per_body_step"] = "%.6g" % (1e9 / (steps * n))
+        # Received per second over the time between the two counts.
+        (t0, n0), (t1, n1) = n0, n1
+        span = max(t1 - t0, 1e-9)
+        per_s = [(m1 - m0) / span for (m0, _), (m1, _) in zip(n0, n1)]
+        mb_per_s = [(b1 - b0) / span / 1e6 for (_, b0), (_, b1) in zip(n0, n1)]
         row.update({"window_s": "%.3f" % wall, "sim_s": "%.4f" % sim,
                     "steps_per_s": "%.6g" % steps, "achieved_rtf": "%.6g" % rate,
-                    "tf_received_per_s": "%.4g" % ((tf1 - tf0) / args.window),
-                    "tf_received_mb_per_s": "%.4g" % ((tfb1 - tfb0) / args.window / 1e6),
-                    "momentum_received_per_s": "%.4g" % ((m1 - m0) / args.window),
+                    "tf_received_per_s": "%.4g" % per_s[0],
+                    "tf_received_mb_per_s": "%.4g" % mb_per_s[0],
+                    "momentum_received_per_s": "%.4g" % per_s[1],
+                    "body_states_received_per_s": "%.4g" % per_s[2],
+                    "body_states_received_mb_per_s": "%.4g" % mb_per_s[2],
                     "status": "ok"})
         return row
     finally:
@@ -271,6 +353,9 @@ def main():
                     help="more runs N:integrator[,N:integrator] (both real-time factors); "
                          "'' for none")
     ap.add_argument("--node", default=DEFAULT_NODE)
+    ap.add_argument("--counter", default=None,
+                    help="the subscriber that counts (default: bench_topic_counter next to "
+                         "--node, else in this checkout's build); if absent, rospy counts")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
     args = ap.parse_args()
     ns = [int(x) for x in args.ns.split(",") if x]
@@ -280,6 +365,9 @@ def main():
         n, integrator = item.split(":")
         runs.append((int(n), integrator))
     csv_path = os.path.join(args.out, "node_throughput.csv")
+    if args.counter is None:
+        beside = os.path.join(os.path.dirname(os.path.abspath(args.node)), "bench_topic_counter")
+        args.counter = beside if os.path.isfile(beside) else DEFAULT_COUNTER
 
     if not (os.path.isfile(args.node) and os.access(args.node, os.X_OK)):
         why = "skipped: the node is not built (%s)" % os.path.relpath(args.node, ROOT)
@@ -309,7 +397,9 @@ def main():
     port = free_port()
     env = dict(os.environ)
     env.update({"ROS_MASTER_URI": "http://127.0.0.1:%d" % port, "ROS_IP": "127.0.0.1",
-                "ROS_HOME": tmp, "ROS_LOG_DIR": os.path.join(tmp, "log")})
+                "ROS_HOME": tmp, "ROS_LOG_DIR": os.path.join(tmp, "log"),
+                # the node's log lines reach its log file at once (node_threads reads them)
+                "ROSCONSOLE_STDOUT_LINE_BUFFERED": "1"})
     env.pop("ROS_HOSTNAME", None)
     os.environ.update({k: env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME",
                                            "ROS_LOG_DIR")})
@@ -334,7 +424,13 @@ def main():
                 time.sleep(0.2)
         from rospy.msg import AnyMsg
         rospy.init_node("bench_node_throughput", anonymous=True, disable_signals=True)
-        monitor = Monitor(rospy, Clock, AnyMsg, "simulator")
+        monitor = Monitor(rospy, Clock)
+        if os.path.isfile(args.counter) and os.access(args.counter, os.X_OK):
+            counter = CounterProcess(args.counter, os.path.join(tmp, "counter.log"), env)
+        else:
+            print("node_throughput: %s not built: counting with rospy, which takes CPU from "
+                  "the node" % os.path.relpath(args.counter, ROOT), file=sys.stderr)
+            counter = RospyCounter(rospy, AnyMsg)
         scenes = {}
         for n, integrator in runs:
             if n not in scenes:
@@ -342,17 +438,18 @@ def main():
             urdf, state = scenes[n]
             for rtf in rtfs:
                 t0 = time.monotonic()
-                row = measure(rospy, monitor, args.node, args, n, rtf, urdf, state, tmp, env,
-                              integrator)
+                row = measure(rospy, monitor, counter, args.node, args, n, rtf, urdf, state,
+                              tmp, env, integrator)
                 rows.append(row)
                 write_csv(csv_path, rows)
                 if row.get("status") == "ok":
-                    print("[node] %-5s N=%-6d rtf=%-3s %10.0f steps/s  achieved RTF %8.3f  "
-                          "received: tf %5s/s, momentum %5s/s  (%.0f s)" % (
-                              integrator, n, rtf, float(row["steps_per_s"]),
-                              float(row["achieved_rtf"]),
-                              row["tf_received_per_s"], row["momentum_received_per_s"],
-                              time.monotonic() - t0), file=sys.stderr)
+                    print("[node] %-5s N=%-6d rtf=%-3s threads %s %10.0f steps/s  achieved RTF "
+                          "%8.3f  received: tf %5s/s, momentum %5s/s, body_states %5s/s  (%.0f s)"
+                          % (integrator, n, rtf, row["threads"] or "?",
+                             float(row["steps_per_s"]), float(row["achieved_rtf"]),
+                             row["tf_received_per_s"], row["momentum_received_per_s"],
+                             row["body_states_received_per_s"], time.monotonic() - t0),
+                          file=sys.stderr)
                 else:
                     print("[node] %s N=%d rtf=%s: %s" % (integrator, n, rtf, row["status"]),
                           file=sys.stderr)

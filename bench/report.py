@@ -555,7 +555,9 @@ def target_realtime(node_rows, scaling_rows):
         return ("not measured", "node throughput not measured (see Node throughput)", bound_txt)
     achieved = num(row["achieved_rtf"])
     fast = node_row(node_rows, 10000, 0.0, "auto")
-    fig = "node, auto, real_time_factor 1: achieved %.3g" % achieved
+    threads = row.get("threads") or "?"
+    fig = "node, auto, %s thread%s, real_time_factor 1: achieved %.3g" % (
+        threads, "" if threads == "1" else "s", achieved)
     if fast:
         fig += " (as fast as possible: %.3g× real time)" % num(fast["achieved_rtf"])
     others = sorted({r.get("integrator") for r in node_rows if r.get("status") == "ok"
@@ -752,8 +754,10 @@ def main():
             "of the scene).",
             "* **Node throughput** (`bench/node_throughput.py`, "
             "`bench/out/node_throughput.csv`): the ROS node on "
-            "`scripts/generate_many_bodies.py N` with tf, momentum and /clock at 100 Hz and a "
-            "subscriber on /tf and ~momentum; steps per second from /clock against wall time.",
+            "`scripts/generate_many_bodies.py N` with `~threads` at its default (the cores), "
+            "tf, momentum, body states and /clock at 100 Hz and a subscriber on /tf, ~momentum "
+            "and ~body_states (`bench_topic_counter`: counts messages and bytes without "
+            "deserialising them); steps per second from /clock against wall time.",
             ""]
 
     # Targets.
@@ -767,8 +771,9 @@ def main():
          target_vs_peers(rows, cases)),
         ("T5", "CoM under gravity exact to round-off for all but the baselines (euler, rk4)",
          target_com(rows, cases)),
-        ("T6", "10 000 free bodies at dt = 1 ms in real time on one core, tf and momentum at "
-               "100 Hz", target_realtime(node, scaling)),
+        ("T6", "10 000 free bodies at dt = 1 ms in real time on this 2-core machine "
+               "(~threads = cores), tf, momentum and body states at 100 Hz, through the node",
+         target_realtime(node, scaling)),
     ]
     doc += ["## Targets", "",
             "Reported, not asserted (benchmarks never decide CI's pass/fail).", ""]
@@ -842,19 +847,24 @@ def main():
     doc += ["## Node throughput", ""]
     ok_rows = [r for r in node if r.get("status") == "ok"]
     if ok_rows:
-        table = [[r["n_bodies"], r.get("integrator", "?"),
+        def received(r, key, f="%.0f"):  # older CSVs lack the body-state columns
+            return f % num(r[key]) if r.get(key) else "–"
+        table = [[r["n_bodies"], r.get("integrator", "?"), r.get("threads") or "?",
                   "0 (max)" if num(r["real_time_factor"]) == 0 else
                   r["real_time_factor"], "%.0f" % num(r["steps_per_s"]),
                   "%.3g" % num(r["achieved_rtf"]), fmt_ns(num(r.get("ns_per_body_step"))),
-                  "%.0f" % num(r["tf_received_per_s"]),
-                  "%.3g" % num(r["tf_received_mb_per_s"]),
-                  "%.0f" % num(r["momentum_received_per_s"])]
+                  received(r, "tf_received_per_s"), received(r, "tf_received_mb_per_s", "%.3g"),
+                  received(r, "momentum_received_per_s"),
+                  received(r, "body_states_received_per_s"),
+                  received(r, "body_states_received_mb_per_s", "%.3g")]
                  for r in ok_rows]
-        doc += ["dt = 1 ms, tf, ~momentum and /clock at 100 Hz of simulated "
-                "time; \"received\" counts what the Python subscriber got (it drops what it "
-                "cannot keep up with).", "",
-                md_table(["N", "integrator", "~real_time_factor", "steps/s", "achieved RTF",
-                          "ns/body-step", "tf received/s", "tf MB/s", "momentum received/s"],
+        subscribers = sorted({r.get("subscriber") or "rospy AnyMsg" for r in ok_rows})
+        doc += ["dt = 1 ms, tf, ~momentum, ~body_states and /clock at 100 Hz of simulated "
+                "time; \"received\" counts what the subscriber (%s) got (it drops what it "
+                "cannot keep up with)." % ", ".join(subscribers), "",
+                md_table(["N", "integrator", "threads", "~real_time_factor", "steps/s",
+                          "achieved RTF", "ns/body-step", "tf received/s", "tf MB/s",
+                          "momentum received/s", "body states received/s", "body states MB/s"],
                          table), ""]
     skipped = [r for r in node if r.get("status") != "ok"]
     if skipped:

@@ -239,15 +239,49 @@ Result<PoseTwist> toPoseTwist(const geometry_msgs::Pose& pose, const geometry_ms
 
 // ---- outputs ----
 
+namespace {
+// The numbers of one entry (everything but its names), shared by the to…Msg conversions and the
+// in-place fills so that both always write the same fields.
+void setMomentumNumbers(const sim::MomentumReport& r, cga_rigid_sim::Momentum* m) {
+  m->linear = toVector3Msg(r.linear);
+  m->angular = toVector3Msg(r.angular);
+  m->angular_origin = toVector3Msg(r.angular_origin);
+  m->kinetic_energy = r.kinetic_energy;
+  m->potential_energy = r.potential_energy;
+  m->dissipated_energy = r.dissipated_energy;
+}
+
+void setBodyStateNumbers(const sim::BodyStateReport& r, cga_rigid_sim::BodyState* m) {
+  m->pose = toPoseMsg(r.pose_root);
+  m->com = toPointMsg(r.com);
+  m->twist.linear = toVector3Msg(r.linear_velocity);
+  m->twist.angular = toVector3Msg(r.angular_velocity);
+  const auto motor = r.state.M_WB.coefficients();          // 1, e23, e31, e12, e1n, e2n, e3n, e123n
+  const auto bivelocity = r.state.omega_B.coefficients();  // e23, e31, e12, e1n, e2n, e3n
+  std::copy(motor.begin(), motor.end(), m->motor.begin());
+  std::copy(bivelocity.begin(), bivelocity.end(), m->bivelocity.begin());
+}
+
+// Overwrites `items` with one entry per report: the names (set_names) only when asked or when
+// the count changed (then every entry is renamed), the numbers (set_numbers) always.
+template <class Items, class Report, class SetNames, class SetNumbers>
+void fillItems(const std::vector<Report>& reports, bool names, Items* items, SetNames set_names,
+               SetNumbers set_numbers) {
+  if (items->size() != reports.size()) {
+    items->resize(reports.size());
+    names = true;
+  }
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    if (names) set_names(reports[i], &(*items)[i]);
+    set_numbers(reports[i], &(*items)[i]);
+  }
+}
+}  // namespace
+
 cga_rigid_sim::Momentum toMomentumMsg(const sim::MomentumReport& r) {
   cga_rigid_sim::Momentum m;
   m.body = r.body;
-  m.linear = toVector3Msg(r.linear);
-  m.angular = toVector3Msg(r.angular);
-  m.angular_origin = toVector3Msg(r.angular_origin);
-  m.kinetic_energy = r.kinetic_energy;
-  m.potential_energy = r.potential_energy;
-  m.dissipated_energy = r.dissipated_energy;
+  setMomentumNumbers(r, &m);
   return m;
 }
 
@@ -295,14 +329,7 @@ cga_rigid_sim::CurvedMomentumArray toCurvedMomentumArrayMsg(
 cga_rigid_sim::BodyState toBodyStateMsg(const sim::BodyStateReport& r) {
   cga_rigid_sim::BodyState m;
   m.name = r.name;
-  m.pose = toPoseMsg(r.pose_root);
-  m.com = toPointMsg(r.com);
-  m.twist.linear = toVector3Msg(r.linear_velocity);
-  m.twist.angular = toVector3Msg(r.angular_velocity);
-  const auto motor = r.state.M_WB.coefficients();          // 1, e23, e31, e12, e1n, e2n, e3n, e123n
-  const auto bivelocity = r.state.omega_B.coefficients();  // e23, e31, e12, e1n, e2n, e3n
-  std::copy(motor.begin(), motor.end(), m.motor.begin());
-  std::copy(bivelocity.begin(), bivelocity.end(), m.bivelocity.begin());
+  setBodyStateNumbers(r, &m);
   return m;
 }
 
@@ -367,6 +394,58 @@ tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,
   m.transforms.reserve(frames.size());
   for (const auto& f : frames) m.transforms.push_back(toTransformStampedMsg(f, stamp));
   return m;
+}
+
+// ---- outputs in place ----
+
+void fillTfMessage(const std::vector<sim::FramePose>& frames, const ::ros::Time& stamp, bool names,
+                   tf2_msgs::TFMessage* msg) {
+  fillItems(
+      frames, names, &msg->transforms,
+      [](const sim::FramePose& f, geometry_msgs::TransformStamped* m) {
+        m->header.frame_id = f.parent;
+        m->child_frame_id = f.child;
+      },
+      [&stamp](const sim::FramePose& f, geometry_msgs::TransformStamped* m) {
+        m->header.stamp = stamp;
+        m->transform = toTransformMsg(f.pose);
+      });
+}
+
+void fillTfMessage(const std::vector<sim::BodyStateReport>& states, const std::string& world_frame,
+                   const ::ros::Time& stamp, bool names, tf2_msgs::TFMessage* msg) {
+  fillItems(
+      states, names, &msg->transforms,
+      [&world_frame](const sim::BodyStateReport& r, geometry_msgs::TransformStamped* m) {
+        m->header.frame_id = world_frame;
+        m->child_frame_id = r.name;
+      },
+      [&stamp](const sim::BodyStateReport& r, geometry_msgs::TransformStamped* m) {
+        m->header.stamp = stamp;
+        m->transform = toTransformMsg(r.pose_root);
+      });
+}
+
+void fillMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports, const ::ros::Time& stamp,
+                          const std::string& world_frame, bool names,
+                          cga_rigid_sim::MomentumArray* msg) {
+  msg->header.stamp = stamp;
+  msg->header.frame_id = world_frame;
+  fillItems(
+      reports, names, &msg->bodies,
+      [](const sim::MomentumReport& r, cga_rigid_sim::Momentum* m) { m->body = r.body; },
+      setMomentumNumbers);
+}
+
+void fillBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
+                           const ::ros::Time& stamp, const std::string& world_frame, bool names,
+                           cga_rigid_sim::BodyStateArray* msg) {
+  msg->header.stamp = stamp;
+  msg->header.frame_id = world_frame;
+  fillItems(
+      reports, names, &msg->bodies,
+      [](const sim::BodyStateReport& r, cga_rigid_sim::BodyState* m) { m->name = r.name; },
+      setBodyStateNumbers);
 }
 
 }  // namespace node

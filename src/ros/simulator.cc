@@ -6,6 +6,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <unordered_set>
 
 #include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/ros/conversions.h"
@@ -212,22 +213,40 @@ void Simulator::publishOutputs() {
   if (s == last_tf_step_) return;
   const ::ros::Time stamp = toRosTime(world_->time());
   const std::string& world_frame = world_->config().world_frame;
+  const std::uint64_t topology = world_->topologyVersion();
   last_tf_step_ = s;
-  last_tf_children_.clear();
+  tf_msg_sent_ = false;
+  late_tf_children_.clear();
 
   // Messages nobody subscribes to are not even built (10 000 bodies make megabytes per tick).
+  // Those of many bodies are overwritten in place (names only when the bodies changed) and
+  // published by pointer: serialised once for all subscribers, never copied.
+  const bool want_states = body_states_pub_.getNumSubscribers() > 0;
+  std::vector<sim::BodyStateReport> states;
+  if (want_states) states = world_->bodyStates();
   if (tf_pub_.getNumSubscribers() > 0) {
-    const std::vector<sim::FramePose> frames = world_->movingFrames();
-    if (!frames.empty()) tf_pub_.publish(toTfMessage(frames, stamp));
-    for (const auto& f : frames) last_tf_children_.insert(f.child);
+    const bool names = tf_msg_.namesChangedFor(topology);
+    // The body states hold every moving root link's pose: with both wanted, one read serves.
+    if (want_states)
+      fillTfMessage(states, world_frame, stamp, names, &tf_msg_.writable());
+    else
+      fillTfMessage(world_->movingFrames(), stamp, names, &tf_msg_.writable());
+    if (!tf_msg_.ptr()->transforms.empty()) tf_pub_.publish(tf_msg_.ptr());
+    tf_msg_sent_ = true;
   }
-  if (momentum_pub_.getNumSubscribers() > 0)
-    momentum_pub_.publish(toMomentumArrayMsg(world_->momentum(), stamp, world_frame));
+  if (momentum_pub_.getNumSubscribers() > 0) {
+    const bool names = momentum_msg_.namesChangedFor(topology);
+    fillMomentumArrayMsg(world_->momentum(), stamp, world_frame, names, &momentum_msg_.writable());
+    momentum_pub_.publish(momentum_msg_.ptr());
+  }
   if (world_->config().curvature && curved_momentum_pub_.getNumSubscribers() > 0)
     curved_momentum_pub_.publish(toCurvedMomentumArrayMsg(
         world_->curvedMomentum(), *world_->config().curvature, stamp, world_frame));
-  if (body_states_pub_.getNumSubscribers() > 0)
-    body_states_pub_.publish(toBodyStateArrayMsg(world_->bodyStates(), stamp, world_frame));
+  if (want_states) {
+    const bool names = body_states_msg_.namesChangedFor(topology);
+    fillBodyStateArrayMsg(states, stamp, world_frame, names, &body_states_msg_.writable());
+    body_states_pub_.publish(body_states_msg_.ptr());
+  }
   if (contacts_pub_.getNumSubscribers() > 0)
     contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
   if (has_joints_ && joint_states_pub_.getNumSubscribers() > 0)
@@ -259,9 +278,17 @@ void Simulator::publishStaticFrames() {
 
 void Simulator::publishNewMovingFrames() {
   if (last_tf_step_ != world_->stepCount()) return;  // the next tick sends every frame
+  // The children already sent at this stamp, gathered here (after a spawn, rarely) rather than
+  // kept in a set at every tick.
+  std::unordered_set<std::string> sent(late_tf_children_.begin(), late_tf_children_.end());
+  if (tf_msg_sent_)
+    for (const auto& t : tf_msg_.ptr()->transforms) sent.insert(t.child_frame_id);
   std::vector<sim::FramePose> fresh;
-  for (const auto& f : world_->movingFrames())
-    if (last_tf_children_.insert(f.child).second) fresh.push_back(f);
+  for (const auto& f : world_->movingFrames()) {
+    if (!sent.insert(f.child).second) continue;
+    late_tf_children_.push_back(f.child);
+    fresh.push_back(f);
+  }
   if (!fresh.empty()) tf_pub_.publish(toTfMessage(fresh, toRosTime(world_->time())));
 }
 

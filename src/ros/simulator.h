@@ -14,10 +14,12 @@
 #pragma once
 
 #include <cga_rigid_sim/ApplyJointEffort.h>
+#include <cga_rigid_sim/BodyStateArray.h>
 #include <cga_rigid_sim/CgaImpulse.h>
 #include <cga_rigid_sim/CgaWrench.h>
 #include <cga_rigid_sim/DeleteBody.h>
 #include <cga_rigid_sim/GetBodyState.h>
+#include <cga_rigid_sim/MomentumArray.h>
 #include <cga_rigid_sim/SetBodyState.h>
 #include <cga_rigid_sim/SpawnUrdf.h>
 #include <cga_rigid_sim/Step.h>
@@ -25,18 +27,20 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_srvs/Empty.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <set>
 #include <string>
+#include <vector>
 
 #include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "pacing.h"
+#include "reused_message.h"
 
 namespace cga_rigid_sim {
 namespace node {
@@ -127,12 +131,20 @@ class Simulator {
     std::uint64_t suppressed = 0;
   };
   std::map<std::string, Throttle> refusal_log_;
-  /// Step count of the last tf and of the last /clock sent (none yet: UINT64_MAX), the
-  /// children sent in that tf, and the topology version of the last /tf_static.
+  /// Step count of the last tf and of the last /clock sent (none yet: UINT64_MAX), and the
+  /// topology version of the last /tf_static.
   std::uint64_t last_tf_step_ = UINT64_MAX;
   std::uint64_t last_clock_step_ = UINT64_MAX;
-  std::set<std::string> last_tf_children_;
   std::uint64_t static_version_ = UINT64_MAX;
+  /// The children sent at last_tf_step_ (tf2 must not see a child twice at one stamp): those
+  /// of tf_msg_ when tf_msg_sent_, plus the late_tf_children_ that publishNewMovingFrames sent.
+  bool tf_msg_sent_ = false;
+  std::vector<std::string> late_tf_children_;
+
+  /// The per-tick outputs of many bodies, overwritten at every tick (reused_message.h).
+  ReusedMessage<tf2_msgs::TFMessage> tf_msg_;
+  ReusedMessage<cga_rigid_sim::MomentumArray> momentum_msg_;
+  ReusedMessage<cga_rigid_sim::BodyStateArray> body_states_msg_;
 
   ::ros::Publisher tf_pub_, tf_static_pub_, clock_pub_;
   ::ros::Publisher momentum_pub_, body_states_pub_, contacts_pub_, rejected_pub_;

@@ -143,5 +143,27 @@ geometry_msgs::TransformStamped toTransformStampedMsg(const sim::FramePose& fram
 tf2_msgs::TFMessage toTfMessage(const std::vector<sim::FramePose>& frames,
                                 const ::ros::Time& stamp);
 
+// ---- outputs in place (messages kept from tick to tick) ----
+//
+// The node's per-tick outputs are overwritten rather than built anew (10 000 bodies make
+// megabytes per tick): the result equals the to…Msg conversion above, but the strings (frame
+// ids, body names) are written only when `names` is true or the number of entries changed, and
+// the message's memory is reused. The caller passes `names` = true whenever the set of bodies
+// may have changed (World::topologyVersion()); the numbers and stamps are written every time.
+void fillTfMessage(const std::vector<sim::FramePose>& frames, const ::ros::Time& stamp, bool names,
+                   tf2_msgs::TFMessage* msg);
+/// tf of the moving frames made from the body states instead (World::bodyStates(): a body's
+/// name is its root link's name, pose_root that link's pose in the world): the transforms of
+/// World::movingFrames(), in its order, without reading the World a second time when the node
+/// publishes both.
+void fillTfMessage(const std::vector<sim::BodyStateReport>& states, const std::string& world_frame,
+                   const ::ros::Time& stamp, bool names, tf2_msgs::TFMessage* msg);
+void fillMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports, const ::ros::Time& stamp,
+                          const std::string& world_frame, bool names,
+                          cga_rigid_sim::MomentumArray* msg);
+void fillBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
+                           const ::ros::Time& stamp, const std::string& world_frame, bool names,
+                           cga_rigid_sim::BodyStateArray* msg);
+
 }  // namespace node
 }  // namespace cga_rigid_sim
