@@ -14,8 +14,7 @@ struct Bodies {
 void syncRange(void* context, std::size_t begin, std::size_t end) {
   const Model& model = *static_cast<Bodies*>(context)->model;
   Data& data = *static_cast<Bodies*>(context)->data;
-  for (std::size_t i = begin; i < end; ++i)
-    syncBody(model, data.bodies[i], static_cast<int>(i), data.step_count);
+  for (std::size_t i = begin; i < end; ++i) syncBody(model, data, static_cast<int>(i));
 }
 
 }  // namespace
@@ -28,8 +27,19 @@ bool mayCoast(const Model& model, const MovingBodyData& b, int i) {
          model.bodyOf(i).shapes.empty();
 }
 
-void syncBody(const Model& model, MovingBodyData& b, int i, std::uint64_t now) {
-  if (!b.coast.active || b.coast.synced == now) return;
+void startCoast(Data& data, int i) {
+  MovingBodyData& b = data.bodies[i];
+  b.integrator->reset();  // the coast's cache is built from `from`
+  b.coast.from = b.state;
+  b.coast.start = data.step_count;  // the state is that of the step's start
+  b.coast.synced = data.step_count;
+  data.coasting[i] = 1;
+}
+
+void syncBody(const Model& model, Data& data, int i) {
+  MovingBodyData& b = data.bodies[i];
+  const std::uint64_t now = data.step_count;
+  if (!data.coasting[i] || b.coast.synced == now) return;
   b.integrator->coast(model.moving[i].inertia, b.loads, model.lambda, model.config.dt,
                       static_cast<double>(now - b.coast.start), b.coast.from, b.state);
   b.coast.synced = now;
@@ -37,8 +47,8 @@ void syncBody(const Model& model, MovingBodyData& b, int i, std::uint64_t now) {
 
 void syncBodies(const Model& model, Data& data, WorkerPool* pool) {
   std::size_t stale = 0;
-  for (const MovingBodyData& b : data.bodies)
-    stale += b.coast.active && b.coast.synced != data.step_count;
+  for (std::size_t i = 0; i < data.bodies.size(); ++i)
+    stale += data.coasting[i] && data.bodies[i].coast.synced != data.step_count;
   if (stale == 0) return;
   Bodies bodies{&model, &data};
   const std::size_t n = data.bodies.size();
@@ -50,11 +60,11 @@ void syncBodies(const Model& model, Data& data, WorkerPool* pool) {
   }
 }
 
-void endCoast(const Model& model, MovingBodyData& b, int i, std::uint64_t now) {
-  if (!b.coast.active) return;
-  syncBody(model, b, i, now);
-  b.coast = MovingBodyData::Coast();
-  b.integrator->reset();
+void endCoast(const Model& model, Data& data, int i) {
+  if (!data.coasting[i]) return;
+  syncBody(model, data, i);
+  data.coasting[i] = 0;
+  data.bodies[i].integrator->reset();
 }
 
 }  // namespace sim

@@ -20,15 +20,19 @@ namespace sim {
 /// Whether moving body i may coast this step (see above). Reads the Model and its own data only.
 bool mayCoast(const Model& model, const MovingBodyData& b, int i);
 
-/// Makes body i's `state` the state at step count `now` (the Data's) if it is coasting.
-void syncBody(const Model& model, MovingBodyData& b, int i, std::uint64_t now);
+/// Starts body i's coast from its state now (its integrator's caches are dropped: the coast's
+/// are built from that state).
+void startCoast(Data& data, int i);
+
+/// Makes body i's `state` the state at data.step_count if it is coasting.
+void syncBody(const Model& model, Data& data, int i);
 
 /// Makes every coasting body's `state` current, split between the pool's threads.
 void syncBodies(const Model& model, Data& data, WorkerPool* pool);
 
 /// Ends body i's coast, if any: its `state` is made current and its integrator drops the
 /// coast's cache, so the next step starts from that state.
-void endCoast(const Model& model, MovingBodyData& b, int i, std::uint64_t now);
+void endCoast(const Model& model, Data& data, int i);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -62,6 +62,7 @@ Result<Data> makeData(const Model& model) {
     if (!b) return b.failure();
     data.bodies.push_back(std::move(b.value()));
   }
+  data.coasting.assign(n, 0);
   data.dirty_list.reserve(n);
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     auto td = makeTreeData(model, t);

@@ -14,8 +14,8 @@ namespace {
 void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
   MovingBodyData& b = data.bodies[in.body];
   const double lambda = model.lambda;
-  endCoast(model, b, in.body, data.step_count);  // the state the impulse acts on is the state now
-  if (model.curved_space) {  // 1 up (curved_bodies.h): in body axes, through the chart pose
+  endCoast(model, data, in.body);  // the state the impulse acts on is the state now
+  if (model.curved_space) {        // 1 up (curved_bodies.h): in body axes, through the chart pose
     if (in.axes == dynamics::Axes::kWorld) {
       const Eigen::Quaterniond R_BW = b.state.M_WB.rotation().conjugate();
       const Eigen::Vector3d x_B = R_BW * (in.point - b.state.M_WB.translation(lambda));

@@ -22,6 +22,9 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
   Data& data = *static_cast<Bodies*>(context)->data;
   const double h = model.config.dt, lambda = model.lambda;
   for (std::size_t i = begin; i < end; ++i) {
+    // Coasting (coasting.h): nothing to do, and only a byte read. Whatever could end a coast —
+    // an input, an edit, a change of its loads — ends it where it happens.
+    if (data.coasting[i]) continue;
     MovingBodyData& b = data.bodies[i];
     if (model.tree_of_moving[i] >= 0) continue;  // moved by its tree (stage_trees.cc)
     if (model.curved_space) {                    // curved space: 1 up (curved_bodies.h)
@@ -52,18 +55,11 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       }
       continue;
     }
-    // Coasting (coasting.h): nothing to do. Whatever could end a coast — an input, an edit,
-    // a change of its loads — ends it where it happens.
-    if (b.coast.active) continue;
     // With no load and Ω_B = 0 a body is at rest under every integrator (the exact solution
     // is M(t) = M): it is skipped, its state left exactly as it is.
     const bool rest = dynamics::isAtRest(b.loads, b.state.omega_B);
     if (!rest && mayCoast(model, b, static_cast<int>(i))) {
-      b.integrator->reset();  // the coast's cache is built from `from`
-      b.coast.active = true;
-      b.coast.from = b.state;
-      b.coast.start = data.step_count;  // this step's start: the state is one step behind
-      b.coast.synced = data.step_count;
+      startCoast(data, static_cast<int>(i));
       b.last_path = StepPath::kStepped;
       continue;
     }

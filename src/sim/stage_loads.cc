@@ -11,7 +11,7 @@ void updateLoads(const Model& model, Data& data) {
   if (data.dirty_list.empty()) return;
   for (int i : data.dirty_list) {
     MovingBodyData& b = data.bodies[i];
-    endCoast(model, b, i, data.step_count);  // its loads change: stepped from here (coasting.h)
+    endCoast(model, data, i);  // its loads change: stepped from here (coasting.h)
     b.loads.clearApplied();
     for (const ActiveWrench& a : b.wrenches) b.loads.add(a.load);  // room reserved when queued
     b.loads_dirty = false;

@@ -49,7 +49,7 @@ Result<bool> setBodyState(const Model& model, Data& data, const std::string& bod
     writeTreeBodies(model, data, t);
     return true;
   }
-  b.coast = MovingBodyData::Coast();  // the new state replaces the coast's
+  data.coasting[i] = 0;  // the new state replaces the coast's
   b.state =
       scene::placedState(model.bodyOf(i).links.front().M_BL, pose_root, v_W, w_W, model.lambda);
   b.integrator->reset();
@@ -67,6 +67,7 @@ void resetBodies(const Model& model, Data& data) {
   for (std::size_t i = 0; i < data.bodies.size(); ++i)
     if (auto b = makeBodyData(model, model.moving[i].initial, static_cast<int>(i)))
       data.bodies[i] = std::move(b.value());
+  data.coasting.assign(data.bodies.size(), 0);
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t)
     if (auto td = makeTreeData(model, t)) {
       data.trees[t] = std::move(td.value());

@@ -85,6 +85,7 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
   if (!b) return b.failure();
   appendBody(model, std::move(body));
   data.bodies.push_back(std::move(b.value()));
+  data.coasting.push_back(0);
   for (auto& w : warnings) model.scene.warnings.push_back(std::move(w));
   data.dirty_list.reserve(data.bodies.size());
   ++model.topology_version;
@@ -118,6 +119,7 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
     }
     data.dirty_list.resize(out);
     data.bodies.erase(data.bodies.begin() + i);
+    data.coasting.erase(data.coasting.begin() + i);
   }
   // Contacts name bodies by index: the next step finds them again.
   data.contacts.clear();

@@ -91,8 +91,7 @@ void World::reset() { resetBodies(impl_->model, impl_->data); }
 Result<BodyStateReport> World::getBodyState(const std::string& body) const {
   const int j = impl_->model.resolveBody(body);
   if (j < 0) return Error("get_body_state", "body", "unknown body '" + body + "'");
-  if (const int i = impl_->model.moving_of_body[j]; i >= 0)
-    syncBody(impl_->model, impl_->data.bodies[i], i, impl_->data.step_count);
+  if (const int i = impl_->model.moving_of_body[j]; i >= 0) syncBody(impl_->model, impl_->data, i);
   return bodyStateReport(impl_->model, impl_->data, j);
 }
 

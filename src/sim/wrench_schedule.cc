@@ -44,8 +44,7 @@ void startWrench(const Model& model, Data& data, const QueuedInput& in, std::uin
   a.load.F = in.F;
   a.load.couple = in.couple;
   MovingBodyData& b = data.bodies[in.body];
-  endCoast(model, b, in.body,
-           data.step_count);  // a world point is taken into the body at the pose now
+  endCoast(model, data, in.body);  // a world point is taken into the body at the pose now
   if (in.axes == dynamics::Axes::kWorld) {
     const cga::Motor& M = b.state.M_WB;
     a.load.point_B = M.rotation().conjugate() * (in.point - M.translation(model.lambda));

@@ -104,9 +104,9 @@ TEST(WorldCoasting, FollowsTheExactFlowThroughAnImpulse) {
   in.start_time = 0.8;  // at the start of step 800
   ASSERT_TRUE(w->applyImpulse(in).ok());
   w->step(400);
-  EXPECT_TRUE(w->data().bodies[0].coast.active);  // coasting, also after a read
+  EXPECT_TRUE(w->data().coasting[0]);  // coasting, also after a read
   w->step(1200);
-  EXPECT_TRUE(w->data().bodies[0].coast.active);     // coasting again after the impulse
+  EXPECT_TRUE(w->data().coasting[0]);                // coasting again after the impulse
   EXPECT_EQ(w->data().bodies[0].coast.start, 800u);  // from the impulse's step
 
   const double lambda = 1.0;
