@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <future>
+#include <system_error>
 #include <unordered_set>
 
 #include "cga_rigid_sim/format.h"
@@ -216,7 +217,6 @@ void Simulator::publishOutputs() {
   const std::string& world_frame = world_->config().world_frame;
   const std::uint64_t topology = world_->topologyVersion();
   last_tf_step_ = s;
-  tf_msg_sent_ = false;
   late_tf_children_.clear();
 
   // Messages nobody subscribes to are not even built (10 000 bodies make megabytes per tick).
@@ -251,10 +251,15 @@ void Simulator::publishOutputs() {
     }
   };
   std::future<void> helper;
-  if (world_->config().threads > 1 && (want_tf || want_states))
-    helper = std::async(std::launch::async, send_tf_and_states);
-  else
+  if (world_->config().threads > 1 && (want_tf || want_states)) {
+    try {
+      helper = std::async(std::launch::async, send_tf_and_states);
+    } catch (const std::system_error&) {  // no thread to be had: done here instead
+      send_tf_and_states();
+    }
+  } else {
     send_tf_and_states();
+  }
   if (momentum_pub_.getNumSubscribers() > 0) {
     const bool names = momentum_msg_.namesChangedFor(topology);
     fillMomentumArrayMsg(world_->momentum(), stamp, world_frame, names, &momentum_msg_.writable());
