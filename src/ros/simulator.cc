@@ -6,6 +6,8 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <future>
+#include <system_error>
 #include <unordered_set>
 
 #include "cga_rigid_sim/format.h"
@@ -215,24 +217,48 @@ void Simulator::publishOutputs() {
   const std::string& world_frame = world_->config().world_frame;
   const std::uint64_t topology = world_->topologyVersion();
   last_tf_step_ = s;
-  tf_msg_sent_ = false;
   late_tf_children_.clear();
 
   // Messages nobody subscribes to are not even built (10 000 bodies make megabytes per tick).
   // Those of many bodies are overwritten in place (names only when the bodies changed) and
   // published by pointer: serialised once for all subscribers, never copied.
+  const bool want_tf = tf_pub_.getNumSubscribers() > 0;
   const bool want_states = body_states_pub_.getNumSubscribers() > 0;
+  // The body states hold every moving root link's pose: with both wanted, one read serves tf.
   std::vector<sim::BodyStateReport> states;
-  if (want_states) states = world_->bodyStates();
-  if (tf_pub_.getNumSubscribers() > 0) {
-    const bool names = tf_msg_.namesChangedFor(topology);
-    // The body states hold every moving root link's pose: with both wanted, one read serves.
-    if (want_states)
-      fillTfMessage(states, world_frame, stamp, names, &tf_msg_.writable());
-    else
-      fillTfMessage(world_->movingFrames(), stamp, names, &tf_msg_.writable());
-    if (!tf_msg_.ptr()->transforms.empty()) tf_pub_.publish(tf_msg_.ptr());
-    tf_msg_sent_ = true;
+  std::vector<sim::FramePose> frames;
+  if (want_states)
+    states = world_->bodyStates();
+  else if (want_tf)
+    frames = world_->movingFrames();
+  tf_msg_sent_ = want_tf;
+  // tf and the body states need nothing more from the World (which is read on this thread
+  // only): with a second core (~threads > 1) a helper fills and sends them while this thread
+  // reads and sends the momentum; it is joined before returning.
+  auto send_tf_and_states = [&] {
+    if (want_tf) {
+      const bool names = tf_msg_.namesChangedFor(topology);
+      if (want_states)
+        fillTfMessage(states, world_frame, stamp, names, &tf_msg_.writable());
+      else
+        fillTfMessage(frames, stamp, names, &tf_msg_.writable());
+      if (!tf_msg_.ptr()->transforms.empty()) tf_pub_.publish(tf_msg_.ptr());
+    }
+    if (want_states) {
+      const bool names = body_states_msg_.namesChangedFor(topology);
+      fillBodyStateArrayMsg(states, stamp, world_frame, names, &body_states_msg_.writable());
+      body_states_pub_.publish(body_states_msg_.ptr());
+    }
+  };
+  std::future<void> helper;
+  if (world_->config().threads > 1 && (want_tf || want_states)) {
+    try {
+      helper = std::async(std::launch::async, send_tf_and_states);
+    } catch (const std::system_error&) {  // no thread to be had: done here instead
+      send_tf_and_states();
+    }
+  } else {
+    send_tf_and_states();
   }
   if (momentum_pub_.getNumSubscribers() > 0) {
     const bool names = momentum_msg_.namesChangedFor(topology);
@@ -242,11 +268,7 @@ void Simulator::publishOutputs() {
   if (world_->config().curvature && curved_momentum_pub_.getNumSubscribers() > 0)
     curved_momentum_pub_.publish(toCurvedMomentumArrayMsg(
         world_->curvedMomentum(), *world_->config().curvature, stamp, world_frame));
-  if (want_states) {
-    const bool names = body_states_msg_.namesChangedFor(topology);
-    fillBodyStateArrayMsg(states, stamp, world_frame, names, &body_states_msg_.writable());
-    body_states_pub_.publish(body_states_msg_.ptr());
-  }
+  if (helper.valid()) helper.get();
   if (contacts_pub_.getNumSubscribers() > 0)
     contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
   if (has_joints_ && joint_states_pub_.getNumSubscribers() > 0)

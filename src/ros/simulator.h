@@ -6,7 +6,9 @@
 // between steps (waiting on it until the next real-time deadline, or every kServiceInterval
 // of wall time when running as fast as possible), so callbacks never race a step and World
 // needs no lock. Each subscriber queue holds at most kInputQueueSize messages, which bounds
-// the work done between two steps.
+// the work done between two steps. The World is read on this thread only; with ~threads > 1
+// an output tick hands the filling and sending of tf and body states to a helper thread (the
+// World's workers are idle then) while it reads the momentum, and joins it before going on.
 //
 // Time: every stamp is simulation time t = stepCount·dt. Inputs carry their own stamps and
 // World applies them at the step they belong to, never by arrival time, so replaying a bag of
