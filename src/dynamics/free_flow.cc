@@ -423,6 +423,30 @@ void stepInRun(FreeFlowCache& c, double t, double h, double& sn, double& cn, dou
                        c.coef_atan * (angle - c.run_angle0)));
 }
 
+// Keys the cache to the state `s` (rotor r, body w) for the moments J and λ: the state the
+// last step left (exactFreeFlow) or the coast's anchor (freeFlowAt).
+inline void setKeys(FreeFlowCache& c, const Eigen::Vector3d& J, const Eigen::Quaterniond& r,
+                    const Eigen::Vector3d& w, const BodyState& s, double lambda) {
+  c.key_J = J;
+  c.key_r = r.coeffs();
+  c.key_w = w;
+  c.key_trans = s.omega_B.trans;
+  c.key_q = s.M_WB.dualQuaternion().coeffs();
+  c.key_lambda = lambda;
+}
+
+// The phases now become the anchor's, for steps of h counted from here.
+inline void setAnchor(FreeFlowCache& c, double h) {
+  c.run_steps = 0;
+  c.anchor_h = h;
+  c.anchor_steps = 0;
+  c.psi_a = c.psi;
+  c.psi3_a = c.psi3;
+  c.tau_a = c.tau;
+  c.g_a = c.g_tau;
+  c.rho_a = c.rho;
+}
+
 // The attitude r and body angular velocity w_new at the elapsed time t = k h from the anchor;
 // r and w_new come in as the anchor's (they stay so on the still path). With `runs`, the
 // elliptic path takes the steps of a run by the addition theorems (point 7); without, every
@@ -652,14 +676,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
       double sn, cn, dn;
       evaluateFromAnchor(c, c.anchor_steps * c.anchor_h, sn, cn, dn);
     }
-    c.run_steps = 0;
-    c.anchor_h = h;
-    c.anchor_steps = 0;
-    c.psi_a = c.psi;
-    c.psi3_a = c.psi3;
-    c.tau_a = c.tau;
-    c.g_a = c.g_tau;
-    c.rho_a = c.rho;
+    setAnchor(c, h);
   }
   c.anchor_steps += 1;
   attitudeAt(c, c.anchor_steps * h, h, /*runs=*/true, r, w_new);
@@ -669,12 +686,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   // A body that neither spins nor falls keeps v_B bit for bit (no round trip through v_W).
   if (c.path != Path::kStill || !g_W.isZero(0.0))
     state.omega_B.trans = Loads::toBody(r, v_W) / lambda;  // R̃ v_W, inlined
-  c.key_J = J;
-  c.key_r = r.coeffs();
-  c.key_w = w_new;
-  c.key_trans = state.omega_B.trans;
-  c.key_q = state.M_WB.dualQuaternion().coeffs();
-  c.key_lambda = lambda;
+  setKeys(c, J, r, w_new, state, lambda);
 }
 
 // The same closed forms as a function of the elapsed steps alone (coasting, free_flow.h): the
@@ -695,20 +707,8 @@ void freeFlowAt(const Inertia& inertia, double lambda, double h, double steps,
   if (!valid) {
     build(inertia, r0, w, c);
     c.coast = true;
-    c.key_J = J;
-    c.key_r = r0.coeffs();
-    c.key_w = w;
-    c.key_trans = from.omega_B.trans;
-    c.key_q = from.M_WB.dualQuaternion().coeffs();
-    c.key_lambda = lambda;
-    c.anchor_h = h;
-    c.anchor_steps = 0;
-    c.run_steps = 0;
-    c.psi_a = c.psi;
-    c.psi3_a = c.psi3;
-    c.tau_a = c.tau;
-    c.g_a = c.g_tau;
-    c.rho_a = c.rho;
+    setKeys(c, J, r0, w, from, lambda);
+    setAnchor(c, h);
     c.x_a = from.M_WB.translation(lambda);
     c.v_a = r0 * (lambda * from.omega_B.trans);
     c.com_g = g_W;

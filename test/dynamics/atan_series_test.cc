@@ -8,16 +8,13 @@
 #include <limits>
 #include <random>
 
+#include "common/ulps.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
 
-double ulps(double value, double reference) {
-  const double ulp =
-      std::max(std::abs(std::nextafter(reference, 2.0 * reference + 1.0) - reference),
-               std::numeric_limits<double>::denorm_min());
-  return std::abs(value - reference) / ulp;
-}
+using testing::ulps;
 
 // Truth: std::atan. Tolerance: 2 ulp (measured: 1) — the series' truncation is below 1e-18
 // relative and its evaluation, x + x z P(z), rounds a correction of at most z/3 ≤ 1/768 of x

@@ -8,17 +8,13 @@
 #include <limits>
 #include <random>
 
+#include "common/ulps.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
 
-// Distance in ulps of the reference (for results below the smallest normal: in units of it).
-double ulps(double value, double reference) {
-  const double ulp =
-      std::max(std::abs(std::nextafter(reference, 2.0 * reference + 1.0) - reference),
-               std::numeric_limits<double>::denorm_min());
-  return std::abs(value - reference) / ulp;
-}
+using testing::ulps;
 
 // Truth: std::sin and std::cos. Tolerance: 2 ulp (measured: 1) — the polynomials' truncation is
 // below 1e-17 and their evaluation rounds about once (sin: y + y z P(z), cos: 1 − z/2 + z² Q(z),

@@ -17,20 +17,7 @@ using testing::movingBody;
 
 // Bodies of every inertia class, some at rest, under gravity, tumbling.
 scene::Scene mixedScene(int n) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Eigen::Vector3d classes[3] = {{0.2, 0.2, 0.2}, {0.2, 0.2, 0.3}, {0.1, 0.2, 0.25}};
-  std::vector<scene::BodyModel> bodies;
-  for (int i = 0; i < n; ++i) {
-    const bool resting = i % 7 == 3;
-    bodies.push_back(movingBody(
-        "b" + std::to_string(i), 1.0 + i % 3, classes[i % 3],
-        Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(), {u(rng), u(rng), u(rng)},
-        resting ? Eigen::Vector3d::Zero()
-                : Eigen::Vector3d(Eigen::Vector3d(u(rng), u(rng), u(rng)) * 5.0),
-        resting ? Eigen::Vector3d::Zero() : Eigen::Vector3d(u(rng), u(rng), u(rng))));
-  }
-  return makeScene(bodies, Eigen::Vector3d(0, 0, -9.81));
+  return makeScene(testing::tumblingBodies(n, 5, 7, 3), Eigen::Vector3d(0, 0, -9.81));
 }
 
 // Truth: a second run of the same world, read differently. Three worlds get the same inputs —

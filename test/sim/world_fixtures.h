@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cstring>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,27 @@ inline scene::BodyModel staticBody(const std::string& name,
   b.links.push_back({name, cga::Motor::identity()});
   b.M_WB0 = cga::Motor::fromPose(R, x, lambda);
   return b;
+}
+
+/// n bodies "b0", "b1", … of the three inertia classes in turn (spherical, symmetric,
+/// asymmetric), masses 1–3 kg, at random attitudes and positions, tumbling (|w| up to ~8 rad/s,
+/// |v| up to ~1.7 m/s) except every `rest_period`-th one from `rest_phase`, which is at rest.
+inline std::vector<scene::BodyModel> tumblingBodies(int n, unsigned seed, int rest_period,
+                                                    int rest_phase) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d classes[3] = {{0.2, 0.2, 0.2}, {0.2, 0.2, 0.3}, {0.1, 0.2, 0.25}};
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < n; ++i) {
+    const bool resting = i % rest_period == rest_phase;
+    bodies.push_back(movingBody(
+        "b" + std::to_string(i), 1.0 + i % 3, classes[i % 3],
+        Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(), {u(rng), u(rng), u(rng)},
+        resting ? Eigen::Vector3d::Zero()
+                : Eigen::Vector3d(Eigen::Vector3d(u(rng), u(rng), u(rng)) * 5.0),
+        resting ? Eigen::Vector3d::Zero() : Eigen::Vector3d(u(rng), u(rng), u(rng))));
+  }
+  return bodies;
 }
 
 inline scene::Scene makeScene(std::vector<scene::BodyModel> bodies,

@@ -26,20 +26,9 @@ std::unique_ptr<sim::World> makeThreadedWorld(const scene::Scene& scene, int thr
 // gravity, bodies at rest, every inertia class, a spawn and a delete. Compared after every
 // 50 steps, bit for bit.
 TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
-  std::mt19937 rng(21);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<scene::BodyModel> bodies;
-  const Eigen::Vector3d classes[3] = {{0.2, 0.2, 0.2}, {0.2, 0.2, 0.3}, {0.1, 0.2, 0.25}};
   const int n = 1201;  // above kMinBodiesPerThread · 4, and odd
-  for (int i = 0; i < n; ++i) {
-    const bool resting = i % 5 == 0;
-    bodies.push_back(movingBody(
-        "b" + std::to_string(i), 1.0 + i % 3, classes[i % 3],
-        Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(), {u(rng), u(rng), u(rng)},
-        resting ? Eigen::Vector3d::Zero()
-                : Eigen::Vector3d(Eigen::Vector3d(u(rng), u(rng), u(rng)) * 5.0),
-        resting ? Eigen::Vector3d::Zero() : Eigen::Vector3d(u(rng), u(rng), u(rng))));
-  }
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::vector<scene::BodyModel> bodies = testing::tumblingBodies(n, 21, 5, 0);
   const scene::Scene scene = makeScene(bodies, Eigen::Vector3d(0, 0, -9.81));
   std::vector<std::unique_ptr<sim::World>> worlds;
   for (int threads : {1, 2, 3, 4}) worlds.push_back(makeThreadedWorld(scene, threads));
