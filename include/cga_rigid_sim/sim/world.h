@@ -82,7 +82,10 @@ class World {
 
   const WorldConfig& config() const;
   const scene::Scene& scene() const;
-  /// The constant model and the changing data (sim/model.h, sim/data.h), read-only.
+  /// The constant model and the changing data (sim/model.h, sim/data.h), read-only. Like every
+  /// report, data() first evaluates the states of coasting bodies (doc/architecture.md#coasting),
+  /// which changes nothing but the time it takes. The World is not thread-safe: read it from
+  /// the thread that steps it.
   const Model& model() const;
   const Data& data() const;
   /// Steps done since creation (never goes back, also not on reset).
