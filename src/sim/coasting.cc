@@ -1,19 +1,14 @@
 #include "coasting.h"
 
-#include "cga_rigid_sim/sim/stages.h"
+#include "body_ranges.h"
 
 namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-struct Bodies {
-  const Model* model;
-  Data* data;
-};
-
 void syncRange(void* context, std::size_t begin, std::size_t end) {
-  const Model& model = *static_cast<Bodies*>(context)->model;
-  Data& data = *static_cast<Bodies*>(context)->data;
+  const Model& model = *static_cast<BodyRange*>(context)->model;
+  Data& data = *static_cast<BodyRange*>(context)->data;
   for (std::size_t i = begin; i < end; ++i) syncBody(model, data, static_cast<int>(i));
 }
 
@@ -49,15 +44,7 @@ void syncBodies(const Model& model, Data& data, WorkerPool* pool) {
   std::size_t stale = 0;
   for (std::size_t i = 0; i < data.bodies.size(); ++i)
     stale += data.coasting[i] && data.bodies[i].coast.synced != data.step_count;
-  if (stale == 0) return;
-  Bodies bodies{&model, &data};
-  const std::size_t n = data.bodies.size();
-  if (pool && pool->threads() > 1 &&
-      stale >= kMinBodiesPerThread * static_cast<std::size_t>(pool->threads())) {
-    pool->parallelFor(n, syncRange, &bodies);
-  } else {
-    syncRange(&bodies, 0, n);
-  }
+  if (stale > 0) forBodyRanges(model, data, pool, stale, syncRange);
 }
 
 void endCoast(const Model& model, Data& data, int i) {

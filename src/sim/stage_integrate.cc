@@ -1,5 +1,6 @@
 // Stage 3 of the step: every moving body is advanced over [t_k, t_k + dt] by its integrator,
 // then the clock advances.
+#include "body_ranges.h"
 #include "cga_rigid_sim/dynamics/at_rest.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "coasting.h"
@@ -11,15 +12,10 @@ namespace {
 
 const dynamics::Loads kNoLoads;
 
-struct Bodies {
-  const Model* model;
-  Data* data;
-};
-
 // Bodies [begin, end) over one step; each reads its own data and the constant Model only.
 void integrateRange(void* context, std::size_t begin, std::size_t end) {
-  const Model& model = *static_cast<Bodies*>(context)->model;
-  Data& data = *static_cast<Bodies*>(context)->data;
+  const Model& model = *static_cast<BodyRange*>(context)->model;
+  Data& data = *static_cast<BodyRange*>(context)->data;
   const double h = model.config.dt, lambda = model.lambda;
   for (std::size_t i = begin; i < end; ++i) {
     // Coasting (coasting.h): nothing to do, and only a byte read. Whatever could end a coast —
@@ -72,14 +68,7 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
 }  // namespace
 
 void integrateBodies(const Model& model, Data& data, WorkerPool* pool) {
-  Bodies bodies{&model, &data};
-  const std::size_t n = data.bodies.size();
-  if (pool && pool->threads() > 1 &&
-      n >= kMinBodiesPerThread * static_cast<std::size_t>(pool->threads())) {
-    pool->parallelFor(n, integrateRange, &bodies);
-  } else {
-    integrateRange(&bodies, 0, n);
-  }
+  forBodyRanges(model, data, pool, data.bodies.size(), integrateRange);
   ++data.step_count;
 }
 
