@@ -218,8 +218,20 @@ CGA_ALWAYS_INLINE void stagePieces(double tau, const Cache& c, FreeFlow& f) {
 //   M ← M T_B(τ λ u0) ρ,  i.e.  r ← r ρ,  q ← (q + r ⊗ (0, −½ τ u0)) ρ,
 // and u0 turned into the new body axes (it is world-fixed during the flow).
 CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, BodyState& s) {
-  const Quat r = toQuat(s.M_WB.rotorQuaternion());
+  Quat r = toQuat(s.M_WB.rotorQuaternion());
   Quat q = toQuat(s.M_WB.dualQuaternion());
+  {
+    // M ← M / |r| to first order, 1/√n ≈ (3 − n)/2 (n − 1 is a few ε), before the flow's rotor
+    // joins: the rotor factors of parts turning by a large angle have norm errors of a few ε, and
+    // without this the motor's norm walks by them, and v_W = r u r̃ and the centre of mass with
+    // it (the projectile at h = 0.05 s: 5e-14 of |r|² and 15× the round-off allowance in the CoM
+    // after 2000 steps; 2e-16 and 3× with it). Done on the motor the step starts from, where it
+    // runs beside the pieces instead of after them.
+    const double n = (r.w * r.w + r.x * r.x) + (r.y * r.y + r.z * r.z);
+    const double c = 1.5 - 0.5 * n;
+    r = {c * r.w, c * r.x, c * r.y, c * r.z};
+    q = {c * q.w, c * q.x, c * q.y, c * q.z};
+  }
   const double k = -0.5 * tau;
   const Quat rb = mul(r, Quat{0.0, k * u[0], k * u[1], k * u[2]});
   q = {q.w + rb.w, q.x + rb.x, q.y + rb.y, q.z + rb.z};
