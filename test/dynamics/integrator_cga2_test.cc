@@ -254,7 +254,8 @@ TEST(Cga2, NearlySymmetricBodyHasNoRoundOffDrift) {
 // Truth: the motor's norm is 1 and the centre of mass under uniform gravity is on its parabola
 // x0 + v0 t + ½ g t², to round-off. At large angles per step (the projectile of the benchmark,
 // |w| ≈ 21 rad/s, h = 0.05 s: the Casimir part turns by 1 rad a step) each rotor factor's norm is
-// off by a few ε; the step renormalises the motor it starts from, so the norm does not walk.
+// off by a few ε; the step renormalises the motor (M + eM, e = (1 − |r|²)/2), so the norm does
+// not walk.
 // Measured over 2000 steps: |r|² − 1 = 0 and the CoM 7.6e-10 m (3.2× √N u |x|, u = ε/2) with it;
 // 5e-14 and 3.7e-9 m (15×) without. Bounds: 1e-15 for the norm (a few ε of one step), and the
 // benchmark's allowance for T5, 10 √N u |x| ≈ 2.4e-9 m.
