@@ -47,6 +47,7 @@ class Midpoint final : public TreeIntegrator {
   const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
   void reset() override {
     cached_ = false;
+    start_at_last_ = false;
     kin_at_state_ = false;
   }
   int lastIterations() const override { return iterations_; }
@@ -141,7 +142,8 @@ class Midpoint final : public TreeIntegrator {
     cached_ = v.cached;
     last_h_ = v.last_h;
     T_ = v.T;
-    mass_at_last_ = false;  // M_ may belong to the failed attempt
+    mass_at_last_ = false;   // M_ may belong to the failed attempt
+    start_at_last_ = false;  // and so may the residual's start
     // The history of ν̄ restarts: the halves have another h, so that the next step is not
     // extrapolated (guess_ and history_ need no saving).
     history_filled_ = 0;
@@ -193,10 +195,12 @@ class Midpoint final : public TreeIntegrator {
     // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
     const bool fused = MidpointResidual::applies(tree, loads);
     double load_power = 0.0;  // of the external moments at the midpoint
-    if (fused) {
-      residual_.prepare(tree);
-      residual_.startAt(state.q);
-    }
+    // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
+    // which leaves the sines and cosines of the next step's start behind.
+    const bool fixed = !tree.floating();
+    if (fixed) residual_.prepare(tree);
+    if (fused && !(fresh && start_at_last_)) residual_.startAt(state.q);
+    start_at_last_ = false;
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
       if (fused) {
@@ -261,7 +265,10 @@ class Midpoint final : public TreeIntegrator {
           (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
     }
     // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
-    treePoses(tree, state, kin_);
+    if (fixed)
+      residual_.endPose(state.q, kin_);
+    else
+      treePoses(tree, state, kin_);
     factorMass(tree);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
@@ -292,6 +299,7 @@ class Midpoint final : public TreeIntegrator {
     last_h_ = h;
     cached_ = true;
     mass_at_last_ = true;
+    start_at_last_ = fixed;
     return state.allFinite();
   }
 
@@ -354,9 +362,10 @@ class Midpoint final : public TreeIntegrator {
   int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
   std::vector<Saved> saved_;
   bool slots_sized_ = false;
-  double T_ = 0.0;             // kinetic energy of the state the integrator produced
-  bool mass_at_last_ = false;  // M_ and llt_ are M at the pose of last_
-  bool kin_at_state_ = false;  // kin_ is the kinematics of the state the last substep produced
+  double T_ = 0.0;              // kinetic energy of the state the integrator produced
+  bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
+  bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
+  bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
   static constexpr int kMaxDegree = 5;
   static constexpr int kHistory = kMaxDegree + 2;  // d + 2 values to judge degree d
   std::array<Eigen::VectorXd, kHistory> history_;  // ν̄ of the last steps, newest first

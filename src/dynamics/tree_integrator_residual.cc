@@ -120,6 +120,24 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
         j.C[3 * r + col] = C(r, col);
       }
     }
+    // The joint motion's two parts (jointMotor in articulated_body.cc): revolute
+    // exp(−½q s) = cos ½q + sin ½q (u, −m), prismatic 1 + q (0, −½m), as (rotor, dual).
+    const cga::Motor part =
+        j.revolute ? cga::Motor::fromQuaternions(
+                         Eigen::Quaterniond(0.0, s.rot.x(), s.rot.y(), s.rot.z()),
+                         Eigen::Quaterniond(0.0, -s.trans.x(), -s.trans.y(), -s.trans.z()))
+                   : cga::Motor::fromQuaternions(
+                         Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0),
+                         Eigen::Quaterniond(0.0, -0.5 * s.trans.x(), -0.5 * s.trans.y(),
+                                            -0.5 * s.trans.z()));
+    const cga::Motor P1 = M0 * part;
+    const auto store = [](const cga::Motor& M, double* out) {
+      const Eigen::Quaterniond &r = M.rotorQuaternion(), &q = M.dualQuaternion();
+      const double c[8] = {r.w(), r.x(), r.y(), r.z(), q.w(), q.x(), q.y(), q.z()};
+      for (int i = 0; i < 8; ++i) out[i] = c[i];
+    };
+    store(M0, j.P0);
+    store(P1, j.P1);
     const Inertia& I = tj.inertia;
     for (int i = 0; i < 3; ++i) j.J[i] = I.principalMoments()[i];
     j.m2 = I.mass() * lambda * lambda;
@@ -131,6 +149,44 @@ void MidpointResidual::startAt(const Eigen::VectorXd& q) {
   for (int k = 0; k < joints_; ++k) {
     sin_half_[k] = std::sin(0.5 * q[k]);
     cos_half_[k] = std::cos(0.5 * q[k]);
+  }
+}
+
+void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
+  const int n = joints_;
+  kin.resize(n + 1);
+  kin.M_W[0] = cga::Motor();
+  for (int k = 0; k < n; ++k) {
+    const Joint& j = joint_[k];
+    const int b = k + 1;
+    double R[9], t[3], a, c;  // M_pb = a P0 + c P1
+    if (j.revolute) {
+      const double half = 0.5 * q[k], sh = std::sin(half), ch = std::cos(half);
+      sin_half_[k] = sh;
+      cos_half_[k] = ch;
+      const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
+      double Rc[3];
+      mul(R, j.c, Rc);
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
+      a = ch;
+      c = sh;
+    } else {
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] + q[k] * j.c[i];
+      a = 1.0;
+      c = q[k];
+    }
+    double m[8];
+    for (int i = 0; i < 8; ++i) m[i] = a * j.P0[i] + c * j.P1[i];
+    const cga::Motor M = cga::Motor::fromQuaternions(Eigen::Quaterniond(m[0], m[1], m[2], m[3]),
+                                                     Eigen::Quaterniond(m[4], m[5], m[6], m[7]));
+    kin.M_P[b] = M;
+    kin.M_W[b] = kin.M_W[j.parent] * M;
+    Eigen::Matrix3d& RP = kin.R_P[b];
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) RP(r, col) = R[3 * r + col];
+    kin.t_P[b] = Eigen::Vector3d(t[0], t[1], t[2]);
   }
 }
 
