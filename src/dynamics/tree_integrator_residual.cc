@@ -39,6 +39,16 @@ inline void cross(const double* a, const double* b, double* y) {
   y[1] = a[2] * b[0] - a[0] * b[2];
   y[2] = a[0] * b[1] - a[1] * b[0];
 }
+// R = R0 + sin q R0[u]× + (1 − cos q) R0[u]×² of a joint, from sq = sin q and vq = 1 − cos q.
+template <typename Joint>
+inline void rodrigues(const Joint& j, double sq, double vq, double* R) {
+  for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+  for (int l = 0; l < j.term_count; ++l) {
+    const auto& t = j.terms[l];
+    R[t.index] += sq * t.b + vq * t.c;
+  }
+}
+
 inline double dot(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -111,13 +121,14 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
       c = R0 * s.trans;
       d = t0;
     }
+    j.term_count = 0;
     for (int r = 0; r < 3; ++r) {
       j.c[r] = c[r];
       j.d[r] = d[r];
       for (int col = 0; col < 3; ++col) {
         j.A[3 * r + col] = R0(r, col);
-        j.B[3 * r + col] = B(r, col);
-        j.C[3 * r + col] = C(r, col);
+        if (B(r, col) != 0.0 || C(r, col) != 0.0)
+          j.terms[j.term_count++] = {3 * r + col, B(r, col), C(r, col)};
       }
     }
     // The joint motion's two parts (jointMotor in articulated_body.cc): revolute
@@ -165,7 +176,7 @@ void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
       sin_half_[k] = sh;
       cos_half_[k] = ch;
       const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
-      for (int i = 0; i < 9; ++i) R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
+      rodrigues(j, sq, vq, R);
       double Rc[3];
       mul(R, j.c, Rc);
       for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
@@ -227,7 +238,7 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
         ch = std::cos(half);
       }
       const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
-      for (int i = 0; i < 9; ++i) R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
+      rodrigues(j, sq, vq, R);
       double Rc[3];
       mul(R, j.c, Rc);
       for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];

@@ -53,12 +53,22 @@ class MidpointResidual {
   struct Joint {
     bool revolute = true;
     int parent = 0;
-    double A[9], B[9], C[9];  // R0, R0[u]×, R0[u]×² (row-major); prismatic: A = R0 only
-    double c[3];              // revolute: c/λ; prismatic: R0 m
-    double d[3];              // revolute: (a0 + R0 c)/λ; prismatic: a0/λ
-    double s[6];              // screw in the child's frame (rot, trans)
-    double J[3], m2;          // principal moments, m λ²
-    double lm;                // λ m (gravity moment per unit acceleration)
+    double A[9];  // R0 (row-major)
+    // R_P = R0 + sin q R0[u]× + (1 − cos q) R0[u]×² differs from R0 only where R0[u]× or
+    // R0[u]×² has a nonzero entry: four of the nine for an axis along a coordinate axis of
+    // R0's frame (the usual URDF joint). Those entries, as (index, R0[u]×, R0[u]×²); none for a
+    // prismatic joint.
+    struct Term {
+      int index;
+      double b, c;
+    };
+    Term terms[9];
+    int term_count;
+    double c[3];      // revolute: c/λ; prismatic: R0 m
+    double d[3];      // revolute: (a0 + R0 c)/λ; prismatic: a0/λ
+    double s[6];      // screw in the child's frame (rot, trans)
+    double J[3], m2;  // principal moments, m λ²
+    double lm;        // λ m (gravity moment per unit acceleration)
     // M_pb = cos ½q P0 + sin ½q P1 (revolute) or P0 + q P1 (prismatic), as the rotor's and the
     // dual quaternion's (w, x, y, z): P0 = M_PC, P1 = M_PC (u, −m) or M_PC (0, −½m).
     double P0[8], P1[8];
