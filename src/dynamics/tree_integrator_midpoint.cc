@@ -11,7 +11,6 @@
 // For a fixed base this is the implicit midpoint rule on the canonical (q, p): symplectic. W is
 // the external wrench about the world origin (gravity, applied loads): Π changes by it alone.
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
@@ -75,16 +74,27 @@ class Midpoint final : public TreeIntegrator {
   }
 
   // M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
-  void factorMass(const ArticulatedBody& tree) {
-    massMatrix(tree, kin_, M_);
+  // `at_end_pose`: a fixed base's M from the frames of residual_.endPose().
+  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false) {
+    if (at_end_pose)
+      residual_.massMatrix(M_);
+    else
+      massMatrix(tree, kin_, M_);
     llt_.compute(M_);
+  }
+  // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
+  bool damped(const ArticulatedBody& tree) {
+    if (&tree != damped_tree_) {
+      damped_tree_ = &tree;
+      damped_ = false;
+      for (const TreeJoint& j : tree.joints()) damped_ = damped_ || j.damping != 0.0;
+    }
+    return damped_;
   }
   // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
   // rows; M's own factor when no joint is damped.
   const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h) {
-    bool damped = false;
-    for (const TreeJoint& j : tree.joints()) damped = damped || j.damping != 0.0;
-    if (!damped) return llt_;
+    if (!damped(tree)) return llt_;
     Md_ = M_;
     for (int k = 0; k < tree.jointCount(); ++k)
       Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
@@ -145,7 +155,7 @@ class Midpoint final : public TreeIntegrator {
     mass_at_last_ = false;   // M_ may belong to the failed attempt
     start_at_last_ = false;  // and so may the residual's start
     // The history of ν̄ restarts: the halves have another h, so that the next step is not
-    // extrapolated (guess_ and history_ need no saving).
+    // extrapolated (guess_ and differences_ need no saving).
     history_filled_ = 0;
     p_ = v.p;
     Pi_ = v.Pi;
@@ -162,7 +172,7 @@ class Midpoint final : public TreeIntegrator {
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
       f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
-      for (Eigen::VectorXd& x : history_) x.resize(nv);
+      differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
@@ -215,9 +225,10 @@ class Midpoint final : public TreeIntegrator {
         momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
       }
       r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
-      for (int k = 0; k < n; ++k)
-        r_[tree.velocityIndex(k)] -=
-            0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+      if (damped(tree))
+        for (int k = 0; k < n; ++k)
+          r_[tree.velocityIndex(k)] -=
+              0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
       if (tree.floating()) {
         W = cga::Moment();
         for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
@@ -254,8 +265,9 @@ class Midpoint final : public TreeIntegrator {
     const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
-    for (int k = 0; k < n; ++k)
-      grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+    if (damped(tree))
+      for (int k = 0; k < n; ++k)
+        grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
     p_ += h * grad_ + 2.0 * y_.tail(n);
     state.q += h * nu_bar_.tail(n);
     rows_.clampPositions(tree, state.q);
@@ -269,7 +281,7 @@ class Midpoint final : public TreeIntegrator {
       residual_.endPose(state.q, kin_);
     else
       treePoses(tree, state, kin_);
-    factorMass(tree);
+    factorMass(tree, fixed);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
     rhs_.tail(n) = p_;
@@ -293,7 +305,10 @@ class Midpoint final : public TreeIntegrator {
     predictNext(nv);
     setVelocityVector(tree, nu_end_, state);
     // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
-    treeVelocities(tree, state, kin_);
+    if (fixed)
+      residual_.velocities(state.v, kin_);
+    else
+      treeVelocities(tree, state, kin_);
     kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
@@ -305,45 +320,42 @@ class Midpoint final : public TreeIntegrator {
 
   // The next step's ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
   // ν(t + h/2) by a smooth O(h²)) over the run of steps with the same h: by the polynomial of
-  // degree d through the last d + 1 values, ν̄_{k+1} ≈ Σ_{j=0..d} (−1)^j C(d+1, j+1) ν̄_{k−j},
-  // whose error is the (d+1)-th difference of the sequence, O(h^{d+1}). The degree is the one
-  // whose prediction of this step's ν̄ would have been the closest (the (d+1)-th backward
-  // difference at this step, smallest over d = 1 … kMaxDegree): high while the motion is smooth
-  // on the scale of h (7-link arm at h = 1 ms: the cubic misses by 3e-8, the quartic by 2e-10,
-  // which spares one of three residual passes), low when h is coarse against the motion, where
-  // high-degree extrapolation amplifies instead of cancelling. Only the start of the iteration
-  // depends on it: the step converges to the same root (to round-off) from either.
+  // degree d through the last d + 1 values, in Newton's backward form ν̄_{k+1} ≈ Σ_{j=0..d} ∇^j ν̄_k
+  // (∇ the backward difference), whose error is ∇^{d+1} ν̄_{k+1}, O(h^{d+1}). The degree is the
+  // one whose prediction of this step's ν̄ would have been the closest (|∇^{d+1} ν̄_k|∞, smallest
+  // over d = 1 … kMaxDegree): high while the motion is smooth on the scale of h (7-link arm at
+  // h = 1 ms: the cubic misses by 3e-8, the quartic by 2e-10, which spares one of three residual
+  // passes), low when h is coarse against the motion, where high-degree extrapolation amplifies
+  // instead of cancelling. Only the start of the iteration depends on it: the step converges to
+  // the same root (to round-off) from either. The differences are updated in place,
+  // ∇^j ν̄_k = ∇^{j−1} ν̄_k − ∇^{j−1} ν̄_{k−1}: kDifferences subtractions per coordinate.
   void predictNext(int nv) {
-    for (int i = kHistory - 1; i > 0; --i) history_[i].swap(history_[i - 1]);
-    history_[0] = nu_bar_;
-    history_filled_ = std::min(history_filled_ + 1, kHistory);
-    const int m = history_filled_;
+    const int m = history_filled_ = std::min(history_filled_ + 1, kDifferences);
+    differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
+    double err[kDifferences] = {};  // err[j] = |∇^j ν̄_k|∞, j < m
+    for (int i = 0; i < nv; ++i) {
+      double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
+      double old = d[0];  // ∇^{j−1} ν̄_{k−1}
+      d[0] = nu_bar_[i];
+      for (int j = 1; j < m; ++j) {
+        const double next_old = d[j];
+        d[j] = d[j - 1] - old;
+        old = next_old;
+        err[j] = std::max(err[j], std::abs(d[j]));
+      }
+    }
     if (m < 3) {  // from ν(t + h) and ν̄: ν̄_{k+1} ≈ 2ν(t + h) − ν̄_k
       guess_ = 2.0 * nu_end_ - nu_bar_;
       return;
     }
-    // err[j]: |Δ^j ν̄|∞ at this step, j = 2 … m − 1 (the miss of the degree-(j−1) predictor).
-    double err[kHistory] = {};
-    for (int i = 0; i < nv; ++i) {
-      double d[kHistory];
-      for (int j = 0; j < m; ++j) d[j] = history_[j][i];
-      for (int j = 1; j < m; ++j) {
-        for (int l = 0; l < m - j; ++l) d[l] -= d[l + 1];
-        err[j] = std::max(err[j], std::abs(d[0]));
-      }
-    }
     int degree = 1;
     for (int d = 2; d + 1 < m && d <= kMaxDegree; ++d)
       if (err[d + 1] < err[degree + 1]) degree = d;
-    // Σ_{j=0..d} (−1)^j C(d+1, j+1) ν̄_{k−j}
-    static constexpr double kCoefficients[kMaxDegree + 1][kMaxDegree + 1] = {
-        {1, 0, 0, 0, 0, 0},   {2, -1, 0, 0, 0, 0},    {3, -3, 1, 0, 0, 0},
-        {4, -6, 4, -1, 0, 0}, {5, -10, 10, -5, 1, 0}, {6, -15, 20, -15, 6, -1}};
-    const double* c = kCoefficients[degree];
     guess_.resize(nv);
     for (int i = 0; i < nv; ++i) {
-      double x = 0.0;
-      for (int j = 0; j <= degree; ++j) x += c[j] * history_[j][i];
+      const double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
+      double x = d[0];
+      for (int j = 1; j <= degree; ++j) x += d[j];
       guess_[i] = x;
     }
   }
@@ -362,14 +374,17 @@ class Midpoint final : public TreeIntegrator {
   int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
   std::vector<Saved> saved_;
   bool slots_sized_ = false;
-  double T_ = 0.0;              // kinetic energy of the state the integrator produced
+  double T_ = 0.0;  // kinetic energy of the state the integrator produced
+  const ArticulatedBody* damped_tree_ = nullptr;
+  bool damped_ = false;
   bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
   bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
   bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
   static constexpr int kMaxDegree = 5;
-  static constexpr int kHistory = kMaxDegree + 2;  // d + 2 values to judge degree d
-  std::array<Eigen::VectorXd, kHistory> history_;  // ν̄ of the last steps, newest first
-  int history_filled_ = 0;  // values of the current run of equal steps in history_
+  static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
+  // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)
+  std::vector<double> differences_;
+  int history_filled_ = 0;  // values of ν̄ in the current run of equal steps, ≤ kDifferences
   Eigen::VectorXd Mnu_, p_, guess_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_, rhs_;
   cga::Moment Pi_;
   TreeState mid_;

@@ -88,6 +88,8 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
   const double lambda = tree.lambda();
   joint_.assign(joints_, Joint());
   body_.assign(joints_ + 1, Body());
+  frame_.assign(joints_ + 1, Frame());
+  composite_.assign(joints_ + 1, Composite());
   sin_half_.assign(joints_, 0.0);
   cos_half_.assign(joints_, 1.0);
   for (int k = 0; k < joints_; ++k) {
@@ -194,10 +196,117 @@ void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
                                                      Eigen::Quaterniond(m[4], m[5], m[6], m[7]));
     kin.M_P[b] = M;
     kin.M_W[b] = kin.M_W[j.parent] * M;
+    Frame& f = frame_[b];
+    for (int i = 0; i < 9; ++i) f.R[i] = R[i];
+    for (int i = 0; i < 3; ++i) f.t[i] = t[i];
     Eigen::Matrix3d& RP = kin.R_P[b];
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 3; ++col) RP(r, col) = R[3 * r + col];
     kin.t_P[b] = Eigen::Vector3d(t[0], t[1], t[2]);
+  }
+}
+
+void MidpointResidual::massMatrix(Eigen::MatrixXd& M) {
+  const int n = joints_;
+  M.resize(n, n);
+  double* const out = M.data();  // column-major: M(r, c) = out[r + n c]
+  Composite* const C = composite_.data();
+  for (int b = 1; b <= n; ++b) {
+    const Joint& j = joint_[b - 1];
+    C[b] = Composite{{j.J[0], j.J[1], j.J[2], 0, 0, 0}, {0, 0, 0}, j.m2};
+  }
+  // Composites inward: with x_p = R x_b + t, m and h ← R h + m t, and I_o ← R I_o Rᵀ +
+  // (2 h'·t + m t·t) 1 − (t h'ᵀ + h' tᵀ) − m t tᵀ, h' = R h (the parallel-axis shift).
+  for (int b = n; b >= 1; --b) {
+    const int p = joint_[b - 1].parent;
+    if (p == 0) continue;
+    const Composite& c = C[b];
+    Composite& cp = C[p];
+    const double* R = frame_[b].R;
+    const double* t = frame_[b].t;
+    const double* I = c.I;
+    double RI[9];  // R I_o, I_o symmetric
+    for (int i = 0; i < 3; ++i) {
+      const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];
+      RI[3 * i] = r0 * I[0] + r1 * I[3] + r2 * I[4];
+      RI[3 * i + 1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
+      RI[3 * i + 2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
+    }
+    const auto rowDot = [&](int i, int k) {
+      return RI[3 * i] * R[3 * k] + RI[3 * i + 1] * R[3 * k + 1] + RI[3 * i + 2] * R[3 * k + 2];
+    };
+    double hr[3];
+    mul(R, c.h, hr);
+    const double m = c.m;
+    const double diag = 2.0 * dot(hr, t) + m * dot(t, t);
+    const auto shift = [&](int i, int k) {
+      return -(t[i] * hr[k] + hr[i] * t[k] + m * t[i] * t[k]);
+    };
+    cp.I[0] += rowDot(0, 0) + diag + shift(0, 0);
+    cp.I[1] += rowDot(1, 1) + diag + shift(1, 1);
+    cp.I[2] += rowDot(2, 2) + diag + shift(2, 2);
+    cp.I[3] += rowDot(0, 1) + shift(0, 1);
+    cp.I[4] += rowDot(0, 2) + shift(0, 2);
+    cp.I[5] += rowDot(1, 2) + shift(1, 2);
+    for (int i = 0; i < 3; ++i) cp.h[i] += hr[i] + m * t[i];
+    cp.m += m;
+  }
+  // Column k: F = I_c s_k in body k + 1's frame, carried towards the base (F ← (R τ + t × R f,
+  // R f)) and paired with each ancestor's screw. Entries off the ancestor chains are zero.
+  for (int i = 0; i < n * n; ++i) out[i] = 0.0;
+  for (int k = 0; k < n; ++k) {
+    int b = k + 1;
+    const double* s = joint_[k].s;
+    const Composite& c = C[b];
+    const double* I = c.I;
+    double F[6];
+    F[0] = I[0] * s[0] + I[3] * s[1] + I[4] * s[2];
+    F[1] = I[3] * s[0] + I[1] * s[1] + I[5] * s[2];
+    F[2] = I[4] * s[0] + I[5] * s[1] + I[2] * s[2];
+    double hu[3], wh[3];
+    cross(c.h, s + 3, hu);
+    cross(s, c.h, wh);
+    for (int i = 0; i < 3; ++i) {
+      F[i] += hu[i];
+      F[i + 3] = wh[i] + c.m * s[i + 3];
+    }
+    out[k + n * k] = dot(F, s) + dot(F + 3, s + 3);
+    for (int p = joint_[k].parent; p != 0; p = joint_[p - 1].parent) {
+      const double* R = frame_[b].R;
+      double Rf[3], Rt[3], tf[3];
+      mul(R, F + 3, Rf);
+      mul(R, F, Rt);
+      cross(frame_[b].t, Rf, tf);
+      for (int i = 0; i < 3; ++i) {
+        F[i] = Rt[i] + tf[i];
+        F[i + 3] = Rf[i];
+      }
+      b = p;
+      const double* sp = joint_[p - 1].s;
+      const double x = dot(F, sp) + dot(F + 3, sp + 3);
+      out[k + n * (p - 1)] = x;
+      out[(p - 1) + n * k] = x;
+    }
+  }
+}
+
+void MidpointResidual::velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const {
+  kin.omega[0] = cga::Bivelocity();
+  for (int k = 0; k < joints_; ++k) {
+    const Joint& j = joint_[k];
+    const Frame& f = frame_[k + 1];
+    const cga::Bivelocity& pa = kin.omega[j.parent];
+    // Ω_b = (Rᵀ w, Rᵀ (u − t × w)) + q̇ s.
+    const double pw[3] = {pa.rot.x(), pa.rot.y(), pa.rot.z()};
+    double pu[3] = {pa.trans.x(), pa.trans.y(), pa.trans.z()}, tw[3], w[3], u[3];
+    cross(f.t, pw, tw);
+    for (int i = 0; i < 3; ++i) pu[i] -= tw[i];
+    mulT(f.R, pw, w);
+    mulT(f.R, pu, u);
+    const double vk = v[k];
+    kin.omega[k + 1] = cga::Bivelocity(
+        Eigen::Vector3d(w[0] + vk * j.s[0], w[1] + vk * j.s[1], w[2] + vk * j.s[2]),
+        Eigen::Vector3d(u[0] + vk * j.s[3], u[1] + vk * j.s[4], u[2] + vk * j.s[5]));
   }
 }
 

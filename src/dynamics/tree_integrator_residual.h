@@ -43,6 +43,12 @@ class MidpointResidual {
   /// from the same constants: M_pb = M_PC exp(−½ q s) is linear in (cos ½q, sin ½q), R_P and
   /// t_P come by Rodrigues as in evaluate(). Also does startAt(q): the next step starts there.
   void endPose(const Eigen::VectorXd& q, TreeKinematics& kin);
+  /// The mass matrix M(q) at the positions of the last endPose(): massMatrix() (CRBA on
+  /// composite inertias) to round-off, on the frames endPose() kept.
+  void massMatrix(Eigen::MatrixXd& M);
+  /// The bivelocities kin.omega at the pose of the last endPose() and joint rates v:
+  /// treeVelocities() to round-off.
+  void velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const;
   /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
   /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q; returns the power of gravity
   /// there, Σ ⟨F_b, Ω_b⟩. Sizes are kept: no allocation once sized.
@@ -76,10 +82,20 @@ class MidpointResidual {
   struct Body {  // per body, scratch of one evaluation
     double R[9], t[3], g[3], w[3], u[3], H[6], F[6];
   };
+  struct Frame {  // per body, its frame in its parent's at the last endPose()
+    double R[9], t[3];
+  };
+  // A composite rigid-body inertia about a body's origin (lengths over λ, m' = m λ²): I_o
+  // (xx, yy, zz, xy, xz, yz), h = m' c, m' (tree_momentum.cc).
+  struct Composite {
+    double I[6], h[3], m;
+  };
   const ArticulatedBody* tree_ = nullptr;
   int joints_ = -1;
   std::vector<Joint> joint_;
   std::vector<Body> body_;
+  std::vector<Frame> frame_;
+  std::vector<Composite> composite_;
   std::vector<double> sin_half_, cos_half_;
 };
 

@@ -68,7 +68,8 @@ TEST(MidpointResidual, IsTheKinematicsGravityAndMomentumPasses) {
   }
 }
 
-// The end pose from the residual's constants is treePoses' to round-off: the motors M_P and
+// The end pose from the residual's constants is treePoses' to round-off (and the mass matrix
+// and velocities on it massMatrix's and treeVelocities'): the motors M_P and
 // M_W (compared by their eight coefficients; a motor and its negative are different
 // coefficients, so the sign convention must match too) and the adjoint blocks R_P, t_P. It also
 // leaves the sines and cosines of ½q for the next step, which must give evaluate() the same
@@ -97,6 +98,19 @@ TEST(MidpointResidual, EndPoseIsTreePoses) {
         }
         EXPECT_LT((kin.R_P[b] - ref.R_P[b]).cwiseAbs().maxCoeff(), 1e-14) << b;
         EXPECT_LT((kin.t_P[b] - ref.t_P[b]).cwiseAbs().maxCoeff(), 1e-14) << b;
+      }
+      // The mass matrix and the velocities on the kept frames: sums of O(1) products over ≤ 12
+      // bodies, round-off ≈ 1e-14 of the largest entry.
+      Eigen::MatrixXd M, M_ref;
+      massMatrix(tree, ref, M_ref);
+      residual.massMatrix(M);
+      EXPECT_LT((M - M_ref).cwiseAbs().maxCoeff(), 1e-13 * M_ref.cwiseAbs().maxCoeff()) << n;
+      s.v = VectorXd::Random(n) * 2.0;
+      treeVelocities(tree, s, ref);
+      residual.velocities(s.v, kin);
+      for (int b = 1; b <= n; ++b) {
+        EXPECT_LT((kin.omega[b].rot - ref.omega[b].rot).cwiseAbs().maxCoeff(), 1e-13) << b;
+        EXPECT_LT((kin.omega[b].trans - ref.omega[b].trans).cwiseAbs().maxCoeff(), 1e-13) << b;
       }
       const VectorXd nu_bar = VectorXd::Random(n);
       VectorXd p, grad, p_ref, grad_ref;
