@@ -380,7 +380,7 @@ class Midpoint final : public TreeIntegrator {
   bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
   bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
   bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
-  static constexpr int kMaxDegree = 5;
+  static constexpr int kMaxDegree = 7;
   static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
   // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)
   std::vector<double> differences_;
