@@ -172,7 +172,10 @@ void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
   for (int k = 0; k < n; ++k) {
     const Joint& j = joint_[k];
     const int b = k + 1;
-    double R[9], t[3], a, c;  // M_pb = a P0 + c P1
+    Frame& f = frame_[b];
+    double* const R = f.R;
+    double* const t = f.t;
+    double a, c;  // M_pb = a P0 + c P1
     if (j.revolute) {
       const double half = 0.5 * q[k], sh = std::sin(half), ch = std::cos(half);
       sin_half_[k] = sh;
@@ -190,19 +193,21 @@ void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
       a = 1.0;
       c = q[k];
     }
-    double m[8];
-    for (int i = 0; i < 8; ++i) m[i] = a * j.P0[i] + c * j.P1[i];
-    const cga::Motor M = cga::Motor::fromQuaternions(Eigen::Quaterniond(m[0], m[1], m[2], m[3]),
-                                                     Eigen::Quaterniond(m[4], m[5], m[6], m[7]));
+    const double* P0 = j.P0;
+    const double* P1 = j.P1;
+    const cga::Motor M = cga::Motor::fromQuaternions(
+        Eigen::Quaterniond(a * P0[0] + c * P1[0], a * P0[1] + c * P1[1], a * P0[2] + c * P1[2],
+                           a * P0[3] + c * P1[3]),
+        Eigen::Quaterniond(a * P0[4] + c * P1[4], a * P0[5] + c * P1[5], a * P0[6] + c * P1[6],
+                           a * P0[7] + c * P1[7]));
     kin.M_P[b] = M;
     kin.M_W[b] = kin.M_W[j.parent] * M;
-    Frame& f = frame_[b];
-    for (int i = 0; i < 9; ++i) f.R[i] = R[i];
-    for (int i = 0; i < 3; ++i) f.t[i] = t[i];
-    Eigen::Matrix3d& RP = kin.R_P[b];
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 3; ++col) RP(r, col) = R[3 * r + col];
-    kin.t_P[b] = Eigen::Vector3d(t[0], t[1], t[2]);
+    double* RP = kin.R_P[b].data();  // column-major
+    RP[0] = R[0], RP[1] = R[3], RP[2] = R[6];
+    RP[3] = R[1], RP[4] = R[4], RP[5] = R[7];
+    RP[6] = R[2], RP[7] = R[5], RP[8] = R[8];
+    double* tP = kin.t_P[b].data();
+    tP[0] = t[0], tP[1] = t[1], tP[2] = t[2];
   }
 }
 
@@ -357,14 +362,11 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       for (int i = 0; i < 3; ++i) t[i] = j.d[i] + qm * j.c[i];
     }
     // Ω_b = M_bp Ω_p M̃_bp + q̄̇ s = (Rᵀ w, Rᵀ (u − t × w)) + q̄̇ s; g_b = Rᵀ g_p.
-    double pw[3], pu[3], pg[3], tw[3];
-    for (int i = 0; i < 3; ++i) {
-      pw[i] = pa.w[i];
-      pu[i] = pa.u[i];
-      pg[i] = pa.g[i];
-    }
+    const double* pw = pa.w;
+    const double* pg = pa.g;
+    double pu[3], tw[3];
     cross(t, pw, tw);
-    for (int i = 0; i < 3; ++i) pu[i] -= tw[i];
+    for (int i = 0; i < 3; ++i) pu[i] = pa.u[i] - tw[i];
     double w[3], u[3], g[3];
     mulT(R, pw, w);
     mulT(R, pu, u);
