@@ -333,17 +333,10 @@ class Midpoint final : public TreeIntegrator {
     const int m = history_filled_ = std::min(history_filled_ + 1, kDifferences);
     differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
     double err[kDifferences] = {};  // err[j] = |∇^j ν̄_k|∞, j < m
-    for (int i = 0; i < nv; ++i) {
-      double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
-      double old = d[0];  // ∇^{j−1} ν̄_{k−1}
-      d[0] = nu_bar_[i];
-      for (int j = 1; j < m; ++j) {
-        const double next_old = d[j];
-        d[j] = d[j - 1] - old;
-        old = next_old;
-        err[j] = std::max(err[j], std::abs(d[j]));
-      }
-    }
+    if (m == kDifferences)
+      updateDifferences<kDifferences>(nv, err);  // a long run: the loops unrolled
+    else
+      updateDifferences<0>(nv, err, m);
     if (m < 3) {  // from ν(t + h) and ν̄: ν̄_{k+1} ≈ 2ν(t + h) − ν̄_k
       guess_ = 2.0 * nu_end_ - nu_bar_;
       return;
@@ -357,6 +350,23 @@ class Midpoint final : public TreeIntegrator {
       double x = d[0];
       for (int j = 1; j <= degree; ++j) x += d[j];
       guess_[i] = x;
+    }
+  }
+  // ∇^j ν̄ for j < m (M: m as a constant, or 0 for the run-time `m`), their norms into err.
+  template <int M>
+  void updateDifferences(int nv, double* err, int m = M) {
+    if (M != 0) m = M;
+    for (int i = 0; i < nv; ++i) {
+      double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
+      double old = d[0];  // ∇^{j−1} ν̄_{k−1}
+      d[0] = nu_bar_[i];
+#pragma GCC unroll 16
+      for (int j = 1; j < m; ++j) {
+        const double next_old = d[j];
+        d[j] = d[j - 1] - old;
+        old = next_old;
+        err[j] = std::max(err[j], std::abs(d[j]));
+      }
     }
   }
 
