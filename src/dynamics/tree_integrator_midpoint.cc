@@ -69,8 +69,15 @@ class Midpoint final : public TreeIntegrator {
   bool sameAsCached(const TreeState& s) const {
     if (!cached_) return false;
     const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
-    return a == b && s.q == last_.q && s.v == last_.v && s.omega_0.rot == last_.omega_0.rot &&
-           s.omega_0.trans == last_.omega_0.trans;
+    return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
+           s.omega_0.rot == last_.omega_0.rot && s.omega_0.trans == last_.omega_0.trans;
+  }
+  // Equal sizes and entries (a loop: Eigen's == costs a call per comparison here).
+  static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    if (x.size() != y.size()) return false;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (x[i] != y[i]) return false;
+    return true;
   }
 
   // M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
@@ -131,26 +138,19 @@ class Midpoint final : public TreeIntegrator {
   }
 
   struct Saved {
-    TreeState state, last;
-    bool cached;
-    double last_h, T;
+    TreeState state;  // (last_, cached_ and last_h_ change only when a substep succeeds)
+    double T;
     Eigen::VectorXd p;
     cga::Moment Pi;
   };
   void save(const TreeState& s, Saved& v) const {
     v.state = s;
-    v.last = last_;
-    v.cached = cached_;
-    v.last_h = last_h_;
     v.T = T_;
     v.p = p_;
     v.Pi = Pi_;
   }
   void restore(const Saved& v, TreeState& s) {
     s = v.state;
-    last_ = v.last;
-    cached_ = v.cached;
-    last_h_ = v.last_h;
     T_ = v.T;
     mass_at_last_ = false;   // M_ may belong to the failed attempt
     start_at_last_ = false;  // and so may the residual's start
@@ -172,6 +172,7 @@ class Midpoint final : public TreeIntegrator {
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
       f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
+      mid_ = state;
       differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
@@ -196,7 +197,6 @@ class Midpoint final : public TreeIntegrator {
     const tree_math::Cholesky& A = iterationMatrix(tree, h);
     y_.setZero(nv);
     r_.resize(nv);
-    mid_ = state;
     cga::Moment W;
     double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
     // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
@@ -204,6 +204,7 @@ class Midpoint final : public TreeIntegrator {
     // A fixed base under gravity alone (the common case) takes the fused passes of
     // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
     const bool fused = MidpointResidual::applies(tree, loads);
+    if (!fused) mid_ = state;  // the general path's midpoint state
     double load_power = 0.0;  // of the external moments at the midpoint
     // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
     // which leaves the sines and cosines of the next step's start behind.
@@ -309,13 +310,14 @@ class Midpoint final : public TreeIntegrator {
       residual_.velocities(state.v, kin_);
     else
       treeVelocities(tree, state, kin_);
+    if (!state.allFinite()) return false;
     kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
     cached_ = true;
     mass_at_last_ = true;
     start_at_last_ = fixed;
-    return state.allFinite();
+    return true;
   }
 
   // The next step's ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
