@@ -205,7 +205,7 @@ class Midpoint final : public TreeIntegrator {
     // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
     const bool fused = MidpointResidual::applies(tree, loads);
     if (!fused) mid_ = state;  // the general path's midpoint state
-    double load_power = 0.0;  // of the external moments at the midpoint
+    double load_power = 0.0;   // of the external moments at the midpoint
     // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
     // which leaves the sines and cosines of the next step's start behind.
     const bool fixed = !tree.floating();
@@ -215,7 +215,7 @@ class Midpoint final : public TreeIntegrator {
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
       if (fused) {
-        load_power = residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
+        residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
       } else {
         mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
         setVelocityVector(tree, nu_bar_, mid_);
@@ -259,6 +259,7 @@ class Midpoint final : public TreeIntegrator {
     if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
     // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
     // the energy check.
+    if (fused) load_power = residual_.gravityPower();
     if (!fused)
       for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
         load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);

@@ -321,9 +321,18 @@ void MidpointResidual::velocities(const Eigen::VectorXd& v, TreeKinematics& kin)
   }
 }
 
-double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
-                                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
-                                  Eigen::VectorXd& gradient) {
+double MidpointResidual::gravityPower() const {
+  double power = 0.0;
+  for (int k = 0; k < joints_; ++k) {
+    const Body& b = body_[k + 1];
+    power += joint_[k].lm * dot(b.g, b.u);  // ⟨(0, λ m g_b), Ω_b⟩
+  }
+  return power;
+}
+
+void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                                const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
+                                Eigen::VectorXd& gradient) {
   const int n = joints_;
   p.resize(n);
   gradient.resize(n);
@@ -335,7 +344,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       base.w[i] = base.u[i] = 0.0;
     }
   }
-  double power = 0.0;
   // Outward: frames, gravity, bivelocities, momenta and the external moments.
   for (int k = 0; k < n; ++k) {
     const Joint& j = joint_[k];
@@ -392,7 +400,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       b.F[i + 3] = j.lm * g[i];
     }
     for (int i = 0; i < 9; ++i) b.R[i] = R[i];
-    power += j.lm * dot(g, u);  // ⟨(0, λ m g_b), Ω_b⟩
   }
   // Inward: p_k = ⟨H_k, s⟩, ∂L/∂q_k + Q_k = ⟨H_k, s × Ω_b⟩ + ⟨F_k, s⟩ (A7), with
   // s × Ω = commutator(s, Ω) = (−u_s × w, −(u_s × u + m_s × w)).
@@ -414,7 +421,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       addToParent(b.R, b.t, b.H, b.F, pa.H, pa.F);
     }
   }
-  return power;
 }
 
 }  // namespace dynamics

@@ -50,10 +50,13 @@ class MidpointResidual {
   /// treeVelocities() to round-off.
   void velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const;
   /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
-  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q; returns the power of gravity
-  /// there, Σ ⟨F_b, Ω_b⟩. Sizes are kept: no allocation once sized.
-  double evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
-                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q. Sizes are kept: no
+  /// allocation once sized.
+  void evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+  /// The power of gravity at the last evaluate()'s midpoint, Σ ⟨F_b, Ω_b⟩ (needed once a
+  /// step, not in every pass).
+  double gravityPower() const;
 
  private:
   struct Joint {
