@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "sin_cos.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 
@@ -15,6 +17,7 @@ namespace {
 // 16 rad/s at h = 1 ms) the polynomials stop earlier: x⁷/7! < 2e-20 |x| and x⁸/8! < 1e-24.
 // No divisions: they would lengthen the pass's dependent chains.
 constexpr double kSmallAngle = 1.0 / 16.0, kTinyAngle = 1.0 / 256.0;
+constexpr double kHalfPi = 1.5707963267948966;  // sinCosReduced's range (a joint within ±π)
 inline void smallSinCos(double x, double& s, double& c) {
   constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880;
   constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320,
@@ -164,11 +167,18 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
   }
 }
 
+namespace {
+// sin and cos of a half angle: sinCosReduced within its range (within 1 ulp of std::sin and
+// std::cos, at half the cost; sin_cos.h), else the library's.
+inline void halfSinCos(double half, double& s, double& c) {
+  if (std::abs(half) <= kHalfPi) return sinCosReduced(half, s, c);
+  s = std::sin(half);
+  c = std::cos(half);
+}
+}  // namespace
+
 void MidpointResidual::startAt(const Eigen::VectorXd& q) {
-  for (int k = 0; k < joints_; ++k) {
-    sin_half_[k] = std::sin(0.5 * q[k]);
-    cos_half_[k] = std::cos(0.5 * q[k]);
-  }
+  for (int k = 0; k < joints_; ++k) halfSinCos(0.5 * q[k], sin_half_[k], cos_half_[k]);
 }
 
 void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
@@ -183,7 +193,8 @@ void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
     double* const t = f.t;
     double a, c;  // M_pb = a P0 + c P1
     if (j.revolute) {
-      const double half = 0.5 * q[k], sh = std::sin(half), ch = std::cos(half);
+      double sh, ch;
+      halfSinCos(0.5 * q[k], sh, ch);
       sin_half_[k] = sh;
       cos_half_[k] = ch;
       const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
