@@ -69,10 +69,19 @@ class Midpoint final : public TreeIntegrator {
   bool sameAsCached(const TreeState& s) const {
     if (!cached_) return false;
     const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
+    const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+      return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+    };
     return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
-           s.omega_0.rot == last_.omega_0.rot && s.omega_0.trans == last_.omega_0.trans;
+           equal3(s.omega_0.rot, last_.omega_0.rot) && equal3(s.omega_0.trans, last_.omega_0.trans);
   }
-  // Equal sizes and entries (a loop: Eigen's == costs a call per comparison here).
+  // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
+  static bool finite(const Eigen::VectorXd& x) {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i])) return false;
+    return true;
+  }
+  // Equal sizes and entries (plain loops: Eigen's == costs a call per comparison here).
   static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
     if (x.size() != y.size()) return false;
     for (Eigen::Index i = 0; i < x.size(); ++i)
@@ -256,7 +265,7 @@ class Midpoint final : public TreeIntegrator {
       if (it > 2 && change >= last_change) break;
       last_change = change;
     }
-    if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
+    if (!(final_change <= kConverged * final_scale) || !finite(nu_bar_)) return false;
     // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
     // the energy check.
     if (fused) load_power = residual_.gravityPower();
@@ -311,7 +320,9 @@ class Midpoint final : public TreeIntegrator {
       residual_.velocities(state.v, kin_);
     else
       treeVelocities(tree, state, kin_);
-    if (!state.allFinite()) return false;
+    if (!finite(state.q) || !finite(state.v) || !state.M_W0.allFinite() ||
+        !state.omega_0.allFinite())
+      return false;
     kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
