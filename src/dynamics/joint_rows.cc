@@ -18,11 +18,18 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
                       const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar) {
   rows_.clear();
   held_.clear();
-  for (int k = 0; k < tree.jointCount(); ++k) {
-    const TreeJoint& j = tree.joints()[k];
-    const int i = tree.velocityIndex(k);
+  if (&tree != tree_) {  // the joints with friction or limits, once per tree
+    tree_ = &tree;
+    watched_.clear();
+    for (int k = 0; k < tree.jointCount(); ++k) {
+      const TreeJoint& j = tree.joints()[k];
+      if (j.friction > 0 || j.hasLimits())
+        watched_.push_back({k, tree.velocityIndex(k), j.lower, j.upper, j.friction});
+    }
+  }
+  for (const Watched& j : watched_) {
+    const int k = j.joint, i = j.index;
     if (j.friction > 0) rows_.push_back({i, Kind::kFriction, 0.0, 0.5 * h * j.friction});
-    if (!j.hasLimits()) continue;
     const double end = q[k] + h * nu_bar[i];
     if (end <= j.lower || q[k] <= j.lower)
       rows_.push_back({i, Kind::kLower, (j.lower - q[k]) / h, 0.0});

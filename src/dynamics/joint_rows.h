@@ -48,6 +48,14 @@ class JointRows {
     double bound;   // friction: ½ h F
     double y = 0.0;
   };
+  // Joints with friction or limits (those without are never held), of the tree last solved
+  // (an integrator, and its rows, belong to one tree). Unlimited bounds are ±∞: no row.
+  struct Watched {
+    int joint, index;
+    double lower, upper, friction;
+  };
+  const ArticulatedBody* tree_ = nullptr;
+  std::vector<Watched> watched_;
   std::vector<Row> rows_;
   std::vector<int> held_;
   std::vector<Eigen::VectorXd> columns_;

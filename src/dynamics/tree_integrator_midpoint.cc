@@ -46,6 +46,7 @@ class Midpoint final : public TreeIntegrator {
   const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
   void reset() override {
     cached_ = false;
+    start_at_last_ = false;
     kin_at_state_ = false;
   }
   int lastIterations() const override { return iterations_; }
@@ -68,21 +69,48 @@ class Midpoint final : public TreeIntegrator {
   bool sameAsCached(const TreeState& s) const {
     if (!cached_) return false;
     const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
-    return a == b && s.q == last_.q && s.v == last_.v && s.omega_0.rot == last_.omega_0.rot &&
-           s.omega_0.trans == last_.omega_0.trans;
+    const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+      return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+    };
+    return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
+           equal3(s.omega_0.rot, last_.omega_0.rot) && equal3(s.omega_0.trans, last_.omega_0.trans);
+  }
+  // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
+  static bool finite(const Eigen::VectorXd& x) {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i])) return false;
+    return true;
+  }
+  // Equal sizes and entries (plain loops: Eigen's == costs a call per comparison here).
+  static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    if (x.size() != y.size()) return false;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (x[i] != y[i]) return false;
+    return true;
   }
 
   // M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
-  void factorMass(const ArticulatedBody& tree) {
-    massMatrix(tree, kin_, M_);
+  // `at_end_pose`: a fixed base's M from the frames of residual_.endPose().
+  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false) {
+    if (at_end_pose)
+      residual_.massMatrix(M_);
+    else
+      massMatrix(tree, kin_, M_);
     llt_.compute(M_);
+  }
+  // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
+  bool damped(const ArticulatedBody& tree) {
+    if (&tree != damped_tree_) {
+      damped_tree_ = &tree;
+      damped_ = false;
+      for (const TreeJoint& j : tree.joints()) damped_ = damped_ || j.damping != 0.0;
+    }
+    return damped_;
   }
   // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
   // rows; M's own factor when no joint is damped.
   const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h) {
-    bool damped = false;
-    for (const TreeJoint& j : tree.joints()) damped = damped || j.damping != 0.0;
-    if (!damped) return llt_;
+    if (!damped(tree)) return llt_;
     Md_ = M_;
     for (int k = 0; k < tree.jointCount(); ++k)
       Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
@@ -119,40 +147,26 @@ class Midpoint final : public TreeIntegrator {
   }
 
   struct Saved {
-    TreeState state, last;
-    bool cached;
-    double last_h, T;
-    int runs;
-    Eigen::VectorXd p, guess, prev_bar, prev_bar2, prev_bar3;
+    TreeState state;  // (last_, cached_ and last_h_ change only when a substep succeeds)
+    double T;
+    Eigen::VectorXd p;
     cga::Moment Pi;
   };
   void save(const TreeState& s, Saved& v) const {
     v.state = s;
-    v.last = last_;
-    v.cached = cached_;
-    v.last_h = last_h_;
     v.T = T_;
-    v.runs = runs_;
     v.p = p_;
-    v.guess = guess_;
-    v.prev_bar = prev_bar_;
-    v.prev_bar2 = prev_bar2_;
-    v.prev_bar3 = prev_bar3_;
     v.Pi = Pi_;
   }
   void restore(const Saved& v, TreeState& s) {
     s = v.state;
-    last_ = v.last;
-    cached_ = v.cached;
-    last_h_ = v.last_h;
     T_ = v.T;
-    mass_at_last_ = false;  // M_ may belong to the failed attempt
-    runs_ = 0;
+    mass_at_last_ = false;   // M_ may belong to the failed attempt
+    start_at_last_ = false;  // and so may the residual's start
+    // The history of ν̄ restarts: the halves have another h, so that the next step is not
+    // extrapolated (guess_ and differences_ need no saving).
+    history_filled_ = 0;
     p_ = v.p;
-    guess_ = v.guess;
-    prev_bar_ = v.prev_bar;
-    prev_bar2_ = v.prev_bar2;
-    prev_bar3_ = v.prev_bar3;
     Pi_ = v.Pi;
   }
 
@@ -167,17 +181,16 @@ class Midpoint final : public TreeIntegrator {
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
       f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
-      prev_bar_.resize(nv);
-      prev_bar2_.resize(nv);
-      prev_bar3_.resize(nv);
+      mid_ = state;
+      differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
       p_ = pm_.tail(n);
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
     // Start from the extrapolated midpoint velocity when the last step had the same h, else from
     // ν. The iteration matrix is M + ½hC at the step's start: the previous step factored M
     // there for its velocities, so a run of steps factors M once per step (measured on the
-    // 7-link arm at h = 1 ms: 3.5 iterations per step, fewer than with a fresh matrix at the
-    // predicted midpoint, which cost a second factorization).
+    // 7-link arm at h = 1 ms with a quadratic guess: 3.5 iterations per step, fewer than with a
+    // fresh matrix at the predicted midpoint, which cost a second factorization).
     const bool extrapolated = fresh && h == last_h_;
     if (extrapolated) {
       nu_bar_ = guess_;  // (not a conditional expression: that would copy into a temporary)
@@ -193,7 +206,6 @@ class Midpoint final : public TreeIntegrator {
     const tree_math::Cholesky& A = iterationMatrix(tree, h);
     y_.setZero(nv);
     r_.resize(nv);
-    mid_ = state;
     cga::Moment W;
     double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
     // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
@@ -201,15 +213,18 @@ class Midpoint final : public TreeIntegrator {
     // A fixed base under gravity alone (the common case) takes the fused passes of
     // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
     const bool fused = MidpointResidual::applies(tree, loads);
-    double load_power = 0.0;  // of the external moments at the midpoint
-    if (fused) {
-      residual_.prepare(tree);
-      residual_.startAt(state.q);
-    }
+    if (!fused) mid_ = state;  // the general path's midpoint state
+    double load_power = 0.0;   // of the external moments at the midpoint
+    // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
+    // which leaves the sines and cosines of the next step's start behind.
+    const bool fixed = !tree.floating();
+    if (fixed) residual_.prepare(tree);
+    if (fused && !(fresh && start_at_last_)) residual_.startAt(state.q);
+    start_at_last_ = false;
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
       if (fused) {
-        load_power = residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
+        residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
       } else {
         mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
         setVelocityVector(tree, nu_bar_, mid_);
@@ -220,9 +235,10 @@ class Midpoint final : public TreeIntegrator {
         momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
       }
       r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
-      for (int k = 0; k < n; ++k)
-        r_[tree.velocityIndex(k)] -=
-            0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+      if (damped(tree))
+        for (int k = 0; k < n; ++k)
+          r_[tree.velocityIndex(k)] -=
+              0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
       if (tree.floating()) {
         W = cga::Moment();
         for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
@@ -249,9 +265,10 @@ class Midpoint final : public TreeIntegrator {
       if (it > 2 && change >= last_change) break;
       last_change = change;
     }
-    if (!(final_change <= kConverged * final_scale) || !nu_bar_.allFinite()) return false;
+    if (!(final_change <= kConverged * final_scale) || !finite(nu_bar_)) return false;
     // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
     // the energy check.
+    if (fused) load_power = residual_.gravityPower();
     if (!fused)
       for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
         load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
@@ -259,8 +276,9 @@ class Midpoint final : public TreeIntegrator {
     const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
-    for (int k = 0; k < n; ++k)
-      grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+    if (damped(tree))
+      for (int k = 0; k < n; ++k)
+        grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
     p_ += h * grad_ + 2.0 * y_.tail(n);
     state.q += h * nu_bar_.tail(n);
     rows_.clampPositions(tree, state.q);
@@ -270,8 +288,11 @@ class Midpoint final : public TreeIntegrator {
           (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
     }
     // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
-    treePoses(tree, state, kin_);
-    factorMass(tree);
+    if (fixed)
+      residual_.endPose(state.q, kin_);
+    else
+      treePoses(tree, state, kin_);
+    factorMass(tree, fixed);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
     rhs_.tail(n) = p_;
@@ -291,30 +312,76 @@ class Midpoint final : public TreeIntegrator {
       Mnu_.noalias() = M_ * nu_end_;
       p_ = Mnu_.tail(n);
     }
-    // The next ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
-    // ν(t + h/2) by a smooth O(h²)): quadratically from the last three when the steps had the
-    // same h (error O(h³)), else from ν(t + h) and ν̄.
-    if (!extrapolated) runs_ = 0;  // this step starts a run of equal steps
-    if (runs_ >= 3) {
-      guess_ = 4.0 * (nu_bar_ + prev_bar2_) - 6.0 * prev_bar_ - prev_bar3_;
-    } else if (runs_ >= 2) {
-      guess_ = 3.0 * nu_bar_ - 3.0 * prev_bar_ + prev_bar2_;
-    } else {
-      guess_ = 2.0 * nu_end_ - nu_bar_;
-    }
-    prev_bar3_.swap(prev_bar2_);
-    prev_bar2_.swap(prev_bar_);
-    prev_bar_ = nu_bar_;
-    ++runs_;
+    if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
+    predictNext(nv);
     setVelocityVector(tree, nu_end_, state);
     // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
-    treeVelocities(tree, state, kin_);
+    if (fixed)
+      residual_.velocities(state.v, kin_);
+    else
+      treeVelocities(tree, state, kin_);
+    if (!finite(state.q) || !finite(state.v) || !state.M_W0.allFinite() ||
+        !state.omega_0.allFinite())
+      return false;
     kin_at_state_ = true;
     last_ = state;
     last_h_ = h;
     cached_ = true;
     mass_at_last_ = true;
-    return state.allFinite();
+    start_at_last_ = fixed;
+    return true;
+  }
+
+  // The next step's ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
+  // ν(t + h/2) by a smooth O(h²)) over the run of steps with the same h: by the polynomial of
+  // degree d through the last d + 1 values, in Newton's backward form ν̄_{k+1} ≈ Σ_{j=0..d} ∇^j ν̄_k
+  // (∇ the backward difference), whose error is ∇^{d+1} ν̄_{k+1}, O(h^{d+1}). The degree is the
+  // one whose prediction of this step's ν̄ would have been the closest (|∇^{d+1} ν̄_k|∞, smallest
+  // over d = 1 … kMaxDegree): high while the motion is smooth on the scale of h (7-link arm at
+  // h = 1 ms: the cubic misses by 3e-8, the quartic by 2e-10, which spares one of three residual
+  // passes), low when h is coarse against the motion, where high-degree extrapolation amplifies
+  // instead of cancelling. Only the start of the iteration depends on it: the step converges to
+  // the same root (to round-off) from either. The differences are updated in place,
+  // ∇^j ν̄_k = ∇^{j−1} ν̄_k − ∇^{j−1} ν̄_{k−1}: kDifferences subtractions per coordinate.
+  void predictNext(int nv) {
+    const int m = history_filled_ = std::min(history_filled_ + 1, kDifferences);
+    differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
+    double err[kDifferences] = {};  // err[j] = |∇^j ν̄_k|∞, j < m
+    if (m == kDifferences)
+      updateDifferences<kDifferences>(nv, err);  // a long run: the loops unrolled
+    else
+      updateDifferences<0>(nv, err, m);
+    if (m < 3) {  // from ν(t + h) and ν̄: ν̄_{k+1} ≈ 2ν(t + h) − ν̄_k
+      guess_ = 2.0 * nu_end_ - nu_bar_;
+      return;
+    }
+    int degree = 1;
+    for (int d = 2; d + 1 < m && d <= kMaxDegree; ++d)
+      if (err[d + 1] < err[degree + 1]) degree = d;
+    guess_.resize(nv);
+    for (int i = 0; i < nv; ++i) {
+      const double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
+      double x = d[0];
+      for (int j = 1; j <= degree; ++j) x += d[j];
+      guess_[i] = x;
+    }
+  }
+  // ∇^j ν̄ for j < m (M: m as a constant, or 0 for the run-time `m`), their norms into err.
+  template <int M>
+  void updateDifferences(int nv, double* err, int m = M) {
+    if (M != 0) m = M;
+    for (int i = 0; i < nv; ++i) {
+      double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
+      double old = d[0];  // ∇^{j−1} ν̄_{k−1}
+      d[0] = nu_bar_[i];
+#pragma GCC unroll 16
+      for (int j = 1; j < m; ++j) {
+        const double next_old = d[j];
+        d[j] = d[j - 1] - old;
+        old = next_old;
+        err[j] = std::max(err[j], std::abs(d[j]));
+      }
+    }
   }
 
   const BodyMoments& zero_moments(const ArticulatedBody& tree) {
@@ -331,12 +398,18 @@ class Midpoint final : public TreeIntegrator {
   int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
   std::vector<Saved> saved_;
   bool slots_sized_ = false;
-  double T_ = 0.0;             // kinetic energy of the state the integrator produced
-  bool mass_at_last_ = false;  // M_ and llt_ are M at the pose of last_
-  bool kin_at_state_ = false;  // kin_ is the kinematics of the state the last substep produced
-  int runs_ = 0;               // consecutive steps of the same h, for the extrapolation
-  Eigen::VectorXd Mnu_, p_, guess_, prev_bar_, prev_bar2_, prev_bar3_, pm_, grad_, r_, y_, nu_bar_,
-      nu_new_, nu_end_, rhs_;
+  double T_ = 0.0;  // kinetic energy of the state the integrator produced
+  const ArticulatedBody* damped_tree_ = nullptr;
+  bool damped_ = false;
+  bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
+  bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
+  bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
+  static constexpr int kMaxDegree = 7;
+  static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
+  // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)
+  std::vector<double> differences_;
+  int history_filled_ = 0;  // values of ν̄ in the current run of equal steps, ≤ kDifferences
+  Eigen::VectorXd Mnu_, p_, guess_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_, rhs_;
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "sin_cos.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 
@@ -11,14 +13,21 @@ namespace {
 
 // sin x and cos x for |x| ≤ 1/16 from their Taylor polynomials: the first omitted terms,
 // x¹¹/11! and x¹²/12!, are below 2e-20 |x| and 8e-24, far under an ulp (and so is the rounding
-// of the coefficients, which multiply terms below 7e-4 |x|). No divisions: they would lengthen
-// the pass's dependent chains.
-constexpr double kSmallAngle = 1.0 / 16.0;
+// of the coefficients, which multiply terms below 7e-4 |x|). For |x| ≤ 1/256 (a joint below
+// 16 rad/s at h = 1 ms) the polynomials stop earlier: x⁷/7! < 2e-20 |x| and x⁸/8! < 1e-24.
+// No divisions: they would lengthen the pass's dependent chains.
+constexpr double kSmallAngle = 1.0 / 16.0, kTinyAngle = 1.0 / 256.0;
+constexpr double kHalfPi = 1.5707963267948966;  // sinCosReduced's range (a joint within ±π)
 inline void smallSinCos(double x, double& s, double& c) {
   constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880;
   constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320,
                    c10 = -1.0 / 3628800;
   const double x2 = x * x;
+  if (std::abs(x) <= kTinyAngle) {
+    s = x + x * x2 * (s3 + x2 * s5);
+    c = 1.0 + x2 * (c2 + x2 * (c4 + x2 * c6));
+    return;
+  }
   s = x + x * x2 * (s3 + x2 * (s5 + x2 * (s7 + x2 * s9)));
   c = 1.0 + x2 * (c2 + x2 * (c4 + x2 * (c6 + x2 * (c8 + x2 * c10))));
 }
@@ -39,6 +48,16 @@ inline void cross(const double* a, const double* b, double* y) {
   y[1] = a[2] * b[0] - a[0] * b[2];
   y[2] = a[0] * b[1] - a[1] * b[0];
 }
+// R = R0 + sin q R0[u]× + (1 − cos q) R0[u]×² of a joint, from sq = sin q and vq = 1 − cos q.
+template <typename Joint>
+inline void rodrigues(const Joint& j, double sq, double vq, double* R) {
+  for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+  for (int l = 0; l < j.term_count; ++l) {
+    const auto& t = j.terms[l];
+    R[t.index] += sq * t.b + vq * t.c;
+  }
+}
+
 inline double dot(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -78,6 +97,8 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
   const double lambda = tree.lambda();
   joint_.assign(joints_, Joint());
   body_.assign(joints_ + 1, Body());
+  frame_.assign(joints_ + 1, Frame());
+  composite_.assign(joints_ + 1, Composite());
   sin_half_.assign(joints_, 0.0);
   cos_half_.assign(joints_, 1.0);
   for (int k = 0; k < joints_; ++k) {
@@ -111,15 +132,34 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
       c = R0 * s.trans;
       d = t0;
     }
+    j.term_count = 0;
     for (int r = 0; r < 3; ++r) {
       j.c[r] = c[r];
       j.d[r] = d[r];
       for (int col = 0; col < 3; ++col) {
         j.A[3 * r + col] = R0(r, col);
-        j.B[3 * r + col] = B(r, col);
-        j.C[3 * r + col] = C(r, col);
+        if (B(r, col) != 0.0 || C(r, col) != 0.0)
+          j.terms[j.term_count++] = {3 * r + col, B(r, col), C(r, col)};
       }
     }
+    // The joint motion's two parts (jointMotor in articulated_body.cc): revolute
+    // exp(−½q s) = cos ½q + sin ½q (u, −m), prismatic 1 + q (0, −½m), as (rotor, dual).
+    const cga::Motor part =
+        j.revolute ? cga::Motor::fromQuaternions(
+                         Eigen::Quaterniond(0.0, s.rot.x(), s.rot.y(), s.rot.z()),
+                         Eigen::Quaterniond(0.0, -s.trans.x(), -s.trans.y(), -s.trans.z()))
+                   : cga::Motor::fromQuaternions(
+                         Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0),
+                         Eigen::Quaterniond(0.0, -0.5 * s.trans.x(), -0.5 * s.trans.y(),
+                                            -0.5 * s.trans.z()));
+    const cga::Motor P1 = M0 * part;
+    const auto store = [](const cga::Motor& M, double* out) {
+      const Eigen::Quaterniond &r = M.rotorQuaternion(), &q = M.dualQuaternion();
+      const double c[8] = {r.w(), r.x(), r.y(), r.z(), q.w(), q.x(), q.y(), q.z()};
+      for (int i = 0; i < 8; ++i) out[i] = c[i];
+    };
+    store(M0, j.P0);
+    store(P1, j.P1);
     const Inertia& I = tj.inertia;
     for (int i = 0; i < 3; ++i) j.J[i] = I.principalMoments()[i];
     j.m2 = I.mass() * lambda * lambda;
@@ -127,16 +167,183 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
   }
 }
 
+namespace {
+// sin and cos of a half angle: sinCosReduced within its range (within 1 ulp of std::sin and
+// std::cos, at half the cost; sin_cos.h), else the library's.
+inline void halfSinCos(double half, double& s, double& c) {
+  if (std::abs(half) <= kHalfPi) return sinCosReduced(half, s, c);
+  s = std::sin(half);
+  c = std::cos(half);
+}
+}  // namespace
+
 void MidpointResidual::startAt(const Eigen::VectorXd& q) {
-  for (int k = 0; k < joints_; ++k) {
-    sin_half_[k] = std::sin(0.5 * q[k]);
-    cos_half_[k] = std::cos(0.5 * q[k]);
+  for (int k = 0; k < joints_; ++k) halfSinCos(0.5 * q[k], sin_half_[k], cos_half_[k]);
+}
+
+void MidpointResidual::endPose(const Eigen::VectorXd& q, TreeKinematics& kin) {
+  const int n = joints_;
+  kin.resize(n + 1);
+  kin.M_W[0] = cga::Motor();
+  for (int k = 0; k < n; ++k) {
+    const Joint& j = joint_[k];
+    const int b = k + 1;
+    Frame& f = frame_[b];
+    double* const R = f.R;
+    double* const t = f.t;
+    double a, c;  // M_pb = a P0 + c P1
+    if (j.revolute) {
+      double sh, ch;
+      halfSinCos(0.5 * q[k], sh, ch);
+      sin_half_[k] = sh;
+      cos_half_[k] = ch;
+      const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
+      rodrigues(j, sq, vq, R);
+      double Rc[3];
+      mul(R, j.c, Rc);
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
+      a = ch;
+      c = sh;
+    } else {
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] + q[k] * j.c[i];
+      a = 1.0;
+      c = q[k];
+    }
+    const double* P0 = j.P0;
+    const double* P1 = j.P1;
+    const cga::Motor M = cga::Motor::fromQuaternions(
+        Eigen::Quaterniond(a * P0[0] + c * P1[0], a * P0[1] + c * P1[1], a * P0[2] + c * P1[2],
+                           a * P0[3] + c * P1[3]),
+        Eigen::Quaterniond(a * P0[4] + c * P1[4], a * P0[5] + c * P1[5], a * P0[6] + c * P1[6],
+                           a * P0[7] + c * P1[7]));
+    kin.M_P[b] = M;
+    kin.M_W[b] = kin.M_W[j.parent] * M;
+    double* RP = kin.R_P[b].data();  // column-major
+    RP[0] = R[0], RP[1] = R[3], RP[2] = R[6];
+    RP[3] = R[1], RP[4] = R[4], RP[5] = R[7];
+    RP[6] = R[2], RP[7] = R[5], RP[8] = R[8];
+    double* tP = kin.t_P[b].data();
+    tP[0] = t[0], tP[1] = t[1], tP[2] = t[2];
   }
 }
 
-double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
-                                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
-                                  Eigen::VectorXd& gradient) {
+void MidpointResidual::massMatrix(Eigen::MatrixXd& M) {
+  const int n = joints_;
+  M.resize(n, n);
+  double* const out = M.data();  // column-major: M(r, c) = out[r + n c]
+  Composite* const C = composite_.data();
+  for (int b = 1; b <= n; ++b) {
+    const Joint& j = joint_[b - 1];
+    C[b] = Composite{{j.J[0], j.J[1], j.J[2], 0, 0, 0}, {0, 0, 0}, j.m2};
+  }
+  // Composites inward: with x_p = R x_b + t, m and h ← R h + m t, and I_o ← R I_o Rᵀ +
+  // (2 h'·t + m t·t) 1 − (t h'ᵀ + h' tᵀ) − m t tᵀ, h' = R h (the parallel-axis shift).
+  for (int b = n; b >= 1; --b) {
+    const int p = joint_[b - 1].parent;
+    if (p == 0) continue;
+    const Composite& c = C[b];
+    Composite& cp = C[p];
+    const double* R = frame_[b].R;
+    const double* t = frame_[b].t;
+    const double* I = c.I;
+    double RI[9];  // R I_o, I_o symmetric
+    for (int i = 0; i < 3; ++i) {
+      const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];
+      RI[3 * i] = r0 * I[0] + r1 * I[3] + r2 * I[4];
+      RI[3 * i + 1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
+      RI[3 * i + 2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
+    }
+    const auto rowDot = [&](int i, int k) {
+      return RI[3 * i] * R[3 * k] + RI[3 * i + 1] * R[3 * k + 1] + RI[3 * i + 2] * R[3 * k + 2];
+    };
+    double hr[3];
+    mul(R, c.h, hr);
+    const double m = c.m;
+    const double diag = 2.0 * dot(hr, t) + m * dot(t, t);
+    const auto shift = [&](int i, int k) {
+      return -(t[i] * hr[k] + hr[i] * t[k] + m * t[i] * t[k]);
+    };
+    cp.I[0] += rowDot(0, 0) + diag + shift(0, 0);
+    cp.I[1] += rowDot(1, 1) + diag + shift(1, 1);
+    cp.I[2] += rowDot(2, 2) + diag + shift(2, 2);
+    cp.I[3] += rowDot(0, 1) + shift(0, 1);
+    cp.I[4] += rowDot(0, 2) + shift(0, 2);
+    cp.I[5] += rowDot(1, 2) + shift(1, 2);
+    for (int i = 0; i < 3; ++i) cp.h[i] += hr[i] + m * t[i];
+    cp.m += m;
+  }
+  // Column k: F = I_c s_k in body k + 1's frame, carried towards the base (F ← (R τ + t × R f,
+  // R f)) and paired with each ancestor's screw. Entries off the ancestor chains are zero.
+  for (int i = 0; i < n * n; ++i) out[i] = 0.0;
+  for (int k = 0; k < n; ++k) {
+    int b = k + 1;
+    const double* s = joint_[k].s;
+    const Composite& c = C[b];
+    const double* I = c.I;
+    double F[6];
+    F[0] = I[0] * s[0] + I[3] * s[1] + I[4] * s[2];
+    F[1] = I[3] * s[0] + I[1] * s[1] + I[5] * s[2];
+    F[2] = I[4] * s[0] + I[5] * s[1] + I[2] * s[2];
+    double hu[3], wh[3];
+    cross(c.h, s + 3, hu);
+    cross(s, c.h, wh);
+    for (int i = 0; i < 3; ++i) {
+      F[i] += hu[i];
+      F[i + 3] = wh[i] + c.m * s[i + 3];
+    }
+    out[k + n * k] = dot(F, s) + dot(F + 3, s + 3);
+    for (int p = joint_[k].parent; p != 0; p = joint_[p - 1].parent) {
+      const double* R = frame_[b].R;
+      double Rf[3], Rt[3], tf[3];
+      mul(R, F + 3, Rf);
+      mul(R, F, Rt);
+      cross(frame_[b].t, Rf, tf);
+      for (int i = 0; i < 3; ++i) {
+        F[i] = Rt[i] + tf[i];
+        F[i + 3] = Rf[i];
+      }
+      b = p;
+      const double* sp = joint_[p - 1].s;
+      const double x = dot(F, sp) + dot(F + 3, sp + 3);
+      out[k + n * (p - 1)] = x;
+      out[(p - 1) + n * k] = x;
+    }
+  }
+}
+
+void MidpointResidual::velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const {
+  kin.omega[0] = cga::Bivelocity();
+  for (int k = 0; k < joints_; ++k) {
+    const Joint& j = joint_[k];
+    const Frame& f = frame_[k + 1];
+    const cga::Bivelocity& pa = kin.omega[j.parent];
+    // Ω_b = (Rᵀ w, Rᵀ (u − t × w)) + q̇ s.
+    const double pw[3] = {pa.rot.x(), pa.rot.y(), pa.rot.z()};
+    double pu[3] = {pa.trans.x(), pa.trans.y(), pa.trans.z()}, tw[3], w[3], u[3];
+    cross(f.t, pw, tw);
+    for (int i = 0; i < 3; ++i) pu[i] -= tw[i];
+    mulT(f.R, pw, w);
+    mulT(f.R, pu, u);
+    const double vk = v[k];
+    kin.omega[k + 1] = cga::Bivelocity(
+        Eigen::Vector3d(w[0] + vk * j.s[0], w[1] + vk * j.s[1], w[2] + vk * j.s[2]),
+        Eigen::Vector3d(u[0] + vk * j.s[3], u[1] + vk * j.s[4], u[2] + vk * j.s[5]));
+  }
+}
+
+double MidpointResidual::gravityPower() const {
+  double power = 0.0;
+  for (int k = 0; k < joints_; ++k) {
+    const Body& b = body_[k + 1];
+    power += joint_[k].lm * dot(b.g, b.u);  // ⟨(0, λ m g_b), Ω_b⟩
+  }
+  return power;
+}
+
+void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                                const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
+                                Eigen::VectorXd& gradient) {
   const int n = joints_;
   p.resize(n);
   gradient.resize(n);
@@ -148,7 +355,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       base.w[i] = base.u[i] = 0.0;
     }
   }
-  double power = 0.0;
   // Outward: frames, gravity, bivelocities, momenta and the external moments.
   for (int k = 0; k < n; ++k) {
     const Joint& j = joint_[k];
@@ -171,7 +377,7 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
         ch = std::cos(half);
       }
       const double sq = 2.0 * sh * ch, vq = 2.0 * sh * sh;
-      for (int i = 0; i < 9; ++i) R[i] = j.A[i] + sq * j.B[i] + vq * j.C[i];
+      rodrigues(j, sq, vq, R);
       double Rc[3];
       mul(R, j.c, Rc);
       for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
@@ -181,14 +387,11 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       for (int i = 0; i < 3; ++i) t[i] = j.d[i] + qm * j.c[i];
     }
     // Ω_b = M_bp Ω_p M̃_bp + q̄̇ s = (Rᵀ w, Rᵀ (u − t × w)) + q̄̇ s; g_b = Rᵀ g_p.
-    double pw[3], pu[3], pg[3], tw[3];
-    for (int i = 0; i < 3; ++i) {
-      pw[i] = pa.w[i];
-      pu[i] = pa.u[i];
-      pg[i] = pa.g[i];
-    }
+    const double* pw = pa.w;
+    const double* pg = pa.g;
+    double pu[3], tw[3];
     cross(t, pw, tw);
-    for (int i = 0; i < 3; ++i) pu[i] -= tw[i];
+    for (int i = 0; i < 3; ++i) pu[i] = pa.u[i] - tw[i];
     double w[3], u[3], g[3];
     mulT(R, pw, w);
     mulT(R, pu, u);
@@ -208,7 +411,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       b.F[i + 3] = j.lm * g[i];
     }
     for (int i = 0; i < 9; ++i) b.R[i] = R[i];
-    power += j.lm * dot(g, u);  // ⟨(0, λ m g_b), Ω_b⟩
   }
   // Inward: p_k = ⟨H_k, s⟩, ∂L/∂q_k + Q_k = ⟨H_k, s × Ω_b⟩ + ⟨F_k, s⟩ (A7), with
   // s × Ω = commutator(s, Ω) = (−u_s × w, −(u_s × u + m_s × w)).
@@ -230,7 +432,6 @@ double MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3
       addToParent(b.R, b.t, b.H, b.F, pa.H, pa.F);
     }
   }
-  return power;
 }
 
 }  // namespace dynamics

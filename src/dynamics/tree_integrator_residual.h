@@ -10,7 +10,8 @@
 //   so with M_PC = T(a0) R0 and c the point of the line nearest the child's origin,
 //     R_P = R0 R_u(q) = R0 + sin q R0[u]× + (1 − cos q) R0[u]×²,   t_P = (a0 + R0 c − R_P c)/λ,
 //   (Rodrigues; the three matrices and a0 + R0 c are constants of the tree); a prismatic joint
-//   slides it: R_P = R0, t_P = (a0 + λ q R0 m)/λ. No motors (poses in the world are not needed).
+//   slides it: R_P = R0, t_P = (a0 + λ q R0 m)/λ. No motors (poses in the world are not needed;
+//   endPose() gives them at the step's end, for the mass matrix and the World).
 // - sin and cos of ½q̄ by the addition theorem from those of ½q at the step's start, which the
 //   iteration does not move: ½q̄ = ½q + ¼h q̄̇, the increment's sine and cosine from their
 //   Taylor polynomials (exact to round-off while |¼h q̄̇| ≤ 1/16, else from std::sin/cos).
@@ -38,30 +39,66 @@ class MidpointResidual {
   void prepare(const ArticulatedBody& tree);
   /// sin and cos of ½q at the step's start.
   void startAt(const Eigen::VectorXd& q);
+  /// The poses of treePoses() at positions q (M_W, M_P, R_P, t_P; kin sized), to round-off,
+  /// from the same constants: M_pb = M_PC exp(−½ q s) is linear in (cos ½q, sin ½q), R_P and
+  /// t_P come by Rodrigues as in evaluate(). Also does startAt(q): the next step starts there.
+  void endPose(const Eigen::VectorXd& q, TreeKinematics& kin);
+  /// The mass matrix M(q) at the positions of the last endPose(): massMatrix() (CRBA on
+  /// composite inertias) to round-off, on the frames endPose() kept.
+  void massMatrix(Eigen::MatrixXd& M);
+  /// The bivelocities kin.omega at the pose of the last endPose() and joint rates v:
+  /// treeVelocities() to round-off.
+  void velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const;
   /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
-  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q; returns the power of gravity
-  /// there, Σ ⟨F_b, Ω_b⟩. Sizes are kept: no allocation once sized.
-  double evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
-                  const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q. Sizes are kept: no
+  /// allocation once sized.
+  void evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+                const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+  /// The power of gravity at the last evaluate()'s midpoint, Σ ⟨F_b, Ω_b⟩ (needed once a
+  /// step, not in every pass).
+  double gravityPower() const;
 
  private:
   struct Joint {
     bool revolute = true;
     int parent = 0;
-    double A[9], B[9], C[9];  // R0, R0[u]×, R0[u]×² (row-major); prismatic: A = R0 only
-    double c[3];              // revolute: c/λ; prismatic: R0 m
-    double d[3];              // revolute: (a0 + R0 c)/λ; prismatic: a0/λ
-    double s[6];              // screw in the child's frame (rot, trans)
-    double J[3], m2;          // principal moments, m λ²
-    double lm;                // λ m (gravity moment per unit acceleration)
+    double A[9];  // R0 (row-major)
+    // R_P = R0 + sin q R0[u]× + (1 − cos q) R0[u]×² differs from R0 only where R0[u]× or
+    // R0[u]×² has a nonzero entry: four of the nine for an axis along a coordinate axis of
+    // R0's frame (the usual URDF joint). Those entries, as (index, R0[u]×, R0[u]×²); none for a
+    // prismatic joint.
+    struct Term {
+      int index;
+      double b, c;
+    };
+    Term terms[9];
+    int term_count;
+    double c[3];      // revolute: c/λ; prismatic: R0 m
+    double d[3];      // revolute: (a0 + R0 c)/λ; prismatic: a0/λ
+    double s[6];      // screw in the child's frame (rot, trans)
+    double J[3], m2;  // principal moments, m λ²
+    double lm;        // λ m (gravity moment per unit acceleration)
+    // M_pb = cos ½q P0 + sin ½q P1 (revolute) or P0 + q P1 (prismatic), as the rotor's and the
+    // dual quaternion's (w, x, y, z): P0 = M_PC, P1 = M_PC (u, −m) or M_PC (0, −½m).
+    double P0[8], P1[8];
   };
   struct Body {  // per body, scratch of one evaluation
     double R[9], t[3], g[3], w[3], u[3], H[6], F[6];
+  };
+  struct Frame {  // per body, its frame in its parent's at the last endPose()
+    double R[9], t[3];
+  };
+  // A composite rigid-body inertia about a body's origin (lengths over λ, m' = m λ²): I_o
+  // (xx, yy, zz, xy, xz, yz), h = m' c, m' (tree_momentum.cc).
+  struct Composite {
+    double I[6], h[3], m;
   };
   const ArticulatedBody* tree_ = nullptr;
   int joints_ = -1;
   std::vector<Joint> joint_;
   std::vector<Body> body_;
+  std::vector<Frame> frame_;
+  std::vector<Composite> composite_;
   std::vector<double> sin_half_, cos_half_;
 };
 

@@ -42,7 +42,8 @@ TEST(MidpointResidual, IsTheKinematicsGravityAndMomentumPasses) {
         residual.prepare(tree);
         residual.startAt(start.q);
         VectorXd p, grad;
-        const double power = residual.evaluate(start.q, g, h, nu_bar, p, grad);
+        residual.evaluate(start.q, g, h, nu_bar, p, grad);
+        const double power = residual.gravityPower();
 
         TreeState mid;
         mid.q = start.q + 0.5 * h * nu_bar;
@@ -64,6 +65,64 @@ TEST(MidpointResidual, IsTheKinematicsGravityAndMomentumPasses) {
             << n << " joints, h " << h;
         EXPECT_NEAR(power, power_ref, 1e-12 * (1.0 + std::abs(power_ref)));
       }
+    }
+  }
+}
+
+// The end pose from the residual's constants is treePoses' to round-off (and the mass matrix
+// and velocities on it massMatrix's and treeVelocities'): the motors M_P and
+// M_W (compared by their eight coefficients; a motor and its negative are different
+// coefficients, so the sign convention must match too) and the adjoint blocks R_P, t_P. It also
+// leaves the sines and cosines of ½q for the next step, which must give evaluate() the same
+// result as startAt(q).
+TEST(MidpointResidual, EndPoseIsTreePoses) {
+  std::mt19937 rng(2027);
+  for (const int n : {1, 2, 7, 12}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      const ArticulatedBody tree = randomTree(rng, n, false);
+      TreeState s;
+      s.q = VectorXd::Random(n) * 3.0;
+      s.v = VectorXd::Zero(n);
+      TreeKinematics ref, kin;
+      treePoses(tree, s, ref);
+      MidpointResidual residual;
+      residual.prepare(tree);
+      residual.endPose(s.q, kin);
+      // Products of ≤ 12 unit motors with O(1) translations: round-off ≈ 1e-15 per factor; a
+      // wrong sign, axis or λ is off by O(1).
+      for (int b = 1; b <= n; ++b) {
+        const auto a = kin.M_W[b].coefficients(), r = ref.M_W[b].coefficients();
+        const auto ap = kin.M_P[b].coefficients(), rp = ref.M_P[b].coefficients();
+        for (int i = 0; i < 8; ++i) {
+          EXPECT_NEAR(a[i], r[i], 1e-13) << n << " joints, body " << b;
+          EXPECT_NEAR(ap[i], rp[i], 1e-14) << n << " joints, body " << b;
+        }
+        EXPECT_LT((kin.R_P[b] - ref.R_P[b]).cwiseAbs().maxCoeff(), 1e-14) << b;
+        EXPECT_LT((kin.t_P[b] - ref.t_P[b]).cwiseAbs().maxCoeff(), 1e-14) << b;
+      }
+      // The mass matrix and the velocities on the kept frames: sums of O(1) products over ≤ 12
+      // bodies, round-off ≈ 1e-14 of the largest entry.
+      Eigen::MatrixXd M, M_ref;
+      massMatrix(tree, ref, M_ref);
+      residual.massMatrix(M);
+      EXPECT_LT((M - M_ref).cwiseAbs().maxCoeff(), 1e-13 * M_ref.cwiseAbs().maxCoeff()) << n;
+      s.v = VectorXd::Random(n) * 2.0;
+      treeVelocities(tree, s, ref);
+      residual.velocities(s.v, kin);
+      for (int b = 1; b <= n; ++b) {
+        EXPECT_LT((kin.omega[b].rot - ref.omega[b].rot).cwiseAbs().maxCoeff(), 1e-13) << b;
+        EXPECT_LT((kin.omega[b].trans - ref.omega[b].trans).cwiseAbs().maxCoeff(), 1e-13) << b;
+      }
+      const VectorXd nu_bar = VectorXd::Random(n);
+      VectorXd p, grad, p_ref, grad_ref;
+      const Vector3d g(0, 0, -9.81);
+      residual.evaluate(s.q, g, 1e-3, nu_bar, p, grad);
+      MidpointResidual started;
+      started.prepare(tree);
+      started.startAt(s.q);
+      started.evaluate(s.q, g, 1e-3, nu_bar, p_ref, grad_ref);
+      EXPECT_EQ(p, p_ref);  // the same sines and cosines: the same numbers
+      EXPECT_EQ(grad, grad_ref);
     }
   }
 }
