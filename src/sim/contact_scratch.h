@@ -30,6 +30,7 @@ struct ContactScratch {
   std::vector<dynamics::TreeKinematics> tree_kicked;  ///< per solver tree: after the kick
   std::vector<int> slot_a, slot_b;                    ///< per contact
   std::vector<ContactRow> rows;                       ///< per contact
+  SolverWork work;  ///< the solver's working arrays (the landings' solves use them too)
   std::vector<std::size_t> previous;           ///< last step's contacts, sorted by their pair
   std::vector<cga::Moment> impulse_B;          ///< per slot: the sum of its contact impulses, B
   std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN

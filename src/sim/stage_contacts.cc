@@ -244,8 +244,8 @@ void solveContacts(const Model& model, Data& data) {
     }
   }
 
-  data.contact_sweeps = solveVelocities(settings, S.bodies, S.trees, S.rows).iterations;
-  solvePositions(settings, S.bodies, S.trees, S.rows);
+  data.contact_sweeps = solveVelocities(settings, S.bodies, S.trees, S.rows, S.work).iterations;
+  solvePositions(settings, S.bodies, S.trees, S.rows, S.work);
   for (std::size_t u = 0; u < S.trees.size(); ++u) {
     const int t = S.tree_of_solver_tree[u];
     if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
