@@ -106,6 +106,48 @@ void load(const std::vector<SolverBody>& bodies, const std::vector<ContactRow>& 
   }
 }
 
+// The pseudo-inverse of a block's normal Delassus matrix K (size × size, a unit diagonal
+// beyond). Four corners in one plane: K = Σ Jᵀ M⁻¹ J over both bodies, whose rows span the
+// ones and the in-plane components of r_i × n, so z ⟂ those three (their generalised cross
+// product) is K's null vector, and K⁺ = (K + s ẑẑᵀ)⁻¹ − ẑẑᵀ/s for any s > 0 (closed form, no
+// eigen-decomposition). Fewer corners are regular. Anything else (a degenerate patch): the
+// eigen-decomposition, eigenvalues below 1e-9 of the largest taken as zero.
+Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::Vector3d* rn) {
+  const double s = K.trace() / 4;
+  Eigen::Matrix4d out;
+  bool invertible = false;
+  if (size == 4) {
+    // A's columns: the ones and the three components of r_i × n (which lie in the plane ⟂ n,
+    // so rank 3); K = A B Aᵀ for some B, and z spans the kernel of Aᵀ.
+    Eigen::Matrix4d A;
+    for (int i = 0; i < 4; ++i) A.row(i) << 1.0, rn[i].x(), rn[i].y(), rn[i].z();
+    const Eigen::FullPivLU<Eigen::Matrix4d> lu(A.transpose());
+    if (lu.rank() == 3) {
+      const Eigen::Vector4d z = lu.kernel().col(0).normalized();
+      const Eigen::Matrix4d zz = z * z.transpose();
+      Eigen::Matrix4d inv;
+      (K + s * zz).computeInverseWithCheck(inv, invertible, 1e-300);
+      out = inv - zz / s;
+    }
+  } else {
+    Eigen::Matrix4d inv;
+    K.computeInverseWithCheck(inv, invertible, 1e-300);
+    out = inv;
+    for (int i = size; i < 4; ++i) out.row(i).setZero(), out.col(i).setZero();
+    invertible = invertible && (K * out).topLeftCorner(size, size).isIdentity(1e-9);
+  }
+  if (invertible) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(K);
+  const double cutoff = 1e-9 * eig.eigenvalues().cwiseAbs().maxCoeff();
+  out.setZero();
+  for (int q = 0; q < 4; ++q)
+    if (eig.eigenvalues()(q) > cutoff)
+      out +=
+          eig.eigenvectors().col(q) * eig.eigenvectors().col(q).transpose() / eig.eigenvalues()(q);
+  for (int i = size; i < 4; ++i) out.row(i).setZero(), out.col(i).setZero();
+  return out;
+}
+
 // The runs of rows solved as blocks (SolverWork::Group), and each block's pseudo-inverse:
 // K_ij = Σ over the movable sides of 1/m + (r_i × n)ᵀ I⁻¹ (r_j × n).
 void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
@@ -133,13 +175,7 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
         for (int j = 0; j < g.size; ++j)
           K(i, j) = A.inv_mass + B.inv_mass + rn_a[i].dot(A.inv_inertia * rn_a[j]) +
                     rn_b[i].dot(B.inv_inertia * rn_b[j]);
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(K);
-      const double cutoff = 1e-9 * eig.eigenvalues().cwiseAbs().maxCoeff();
-      g.pinv.setZero();
-      for (int q = 0; q < 4; ++q)
-        if (eig.eigenvalues()(q) > cutoff)
-          g.pinv += eig.eigenvectors().col(q) * eig.eigenvectors().col(q).transpose() /
-                    eig.eigenvalues()(q);
+      g.pinv = pseudoInverse(K, g.size, rn_a);
     }
     work.groups.push_back(g);
     k = e;
