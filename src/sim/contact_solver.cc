@@ -112,18 +112,29 @@ void load(const std::vector<SolverBody>& bodies, const std::vector<ContactRow>& 
 // product) is K's null vector, and K⁺ = (K + s ẑẑᵀ)⁻¹ − ẑẑᵀ/s for any s > 0 (closed form, no
 // eigen-decomposition). Fewer corners are regular. Anything else (a degenerate patch): the
 // eigen-decomposition, eigenvalues below 1e-9 of the largest taken as zero.
-Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::Vector3d* rn) {
+Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::Vector3d& n,
+                              const Eigen::Vector3d* rn) {
   const double s = K.trace() / 4;
   Eigen::Matrix4d out;
   bool invertible = false;
   if (size == 4) {
-    // A's columns: the ones and the three components of r_i × n (which lie in the plane ⟂ n,
-    // so rank 3); K = A B Aᵀ for some B, and z spans the kernel of Aᵀ.
-    Eigen::Matrix4d A;
-    for (int i = 0; i < 4; ++i) A.row(i) << 1.0, rn[i].x(), rn[i].y(), rn[i].z();
-    const Eigen::FullPivLU<Eigen::Matrix4d> lu(A.transpose());
-    if (lu.rank() == 3) {
-      const Eigen::Vector4d z = lu.kernel().col(0).normalized();
+    // K = A B Aᵀ with A's columns the ones and the components of r_i × n, which lie in the
+    // plane ⟂ n: two of them (p, q, leaving out n's largest) determine them. z ⟂ A's columns:
+    // z_i = (−1)^i det of A's rows without i.
+    int k = 0;
+    n.cwiseAbs().maxCoeff(&k);
+    const int p = (k + 1) % 3, q = (k + 2) % 3;
+    Eigen::Vector4d z;
+    for (int i = 0; i < 4; ++i) {
+      Eigen::Matrix3d M;
+      for (int j = 0, row = 0; j < 4; ++j)
+        if (j != i) M.row(row++) << 1.0, rn[j](p), rn[j](q);
+      z(i) = (i % 2 ? -1.0 : 1.0) * M.determinant();
+    }
+    const double scale =
+        rn[0].squaredNorm() + rn[1].squaredNorm() + rn[2].squaredNorm() + rn[3].squaredNorm();
+    if (z.norm() > 1e-9 * scale) {  // a patch, not a line
+      z.normalize();
       const Eigen::Matrix4d zz = z * z.transpose();
       Eigen::Matrix4d inv;
       (K + s * zz).computeInverseWithCheck(inv, invertible, 1e-300);
@@ -175,7 +186,7 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
         for (int j = 0; j < g.size; ++j)
           K(i, j) = A.inv_mass + B.inv_mass + rn_a[i].dot(A.inv_inertia * rn_a[j]) +
                     rn_b[i].dot(B.inv_inertia * rn_b[j]);
-      g.pinv = pseudoInverse(K, g.size, rn_a);
+      g.pinv = pseudoInverse(K, g.size, c.n, rn_a);
     }
     work.groups.push_back(g);
     k = e;
