@@ -11,7 +11,9 @@
 //              (u_t = 0) inside it, sliding with λ_t opposite u_t on its rim. A diagonal push
 //              sees the same cone as a straight one.
 // Warm-started from the impulses of the same contacts in the last step, so a resting stack
-// starts at its solution. A solve whose restitution would raise the kinetic energy (several
+// starts at its solution. The corners of a face (consecutive contacts between the same two
+// bodies with one normal) take their normal impulses as one block (SolverWork::Group), which
+// Gauss–Seidel corner by corner would trade between them for ever. A solve whose restitution would raise the kinetic energy (several
 // simultaneous impacts) is redone with e = 0, which never raises it (doc/contacts.md proves it).
 //
 // The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
