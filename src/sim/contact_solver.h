@@ -13,8 +13,9 @@
 // Warm-started from the impulses of the same contacts in the last step, so a resting stack
 // starts at its solution. The corners of a face (consecutive contacts between the same two
 // bodies with one normal) take their normal impulses as one block (SolverWork::Group), which
-// Gauss–Seidel corner by corner would trade between them for ever. A solve whose restitution would raise the kinetic energy (several
-// simultaneous impacts) is redone with e = 0, which never raises it (doc/contacts.md proves it).
+// Gauss–Seidel corner by corner would trade between them for ever. A solve whose restitution
+// would raise the kinetic energy (several simultaneous impacts) is redone with e = 0, which
+// never raises it (doc/contacts.md proves it).
 //
 // The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
 // impulses are applied to the states as CGA impulses afterwards (stage_contacts.cc), so the
