@@ -109,7 +109,7 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
   for (const Contact& c : data.contacts) {
     const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
     for (const int i : {a, b}) {
-      if (i < 0 || S.asleep[i]) continue;
+      if (i < 0 || S.asleep[i] || S.speed[i] >= kSleepSpeed) continue;  // known to move
       const MovingBodyData& body = data.bodies[i];
       // Links move with their trees; a landing body is mid-flight within the step.
       if (model.tree_of_moving[i] >= 0 || body.contact_step == MovingBodyData::ContactStep::kDone) {

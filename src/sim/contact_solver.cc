@@ -182,10 +182,18 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
       }
       const SolverWork::Response& A = work.response[work.a[k]];
       const SolverWork::Response& B = work.response[work.b[k]];
+      const bool b_moves = work.b[k] + 1 < static_cast<int>(work.response.size());
+      Eigen::Vector3d Irn_a[4], Irn_b[4];
+      for (int j = 0; j < g.size; ++j) {
+        Irn_a[j].noalias() = A.inv_inertia * rn_a[j];
+        if (b_moves) Irn_b[j].noalias() = B.inv_inertia * rn_b[j];
+      }
       for (int i = 0; i < g.size; ++i)
-        for (int j = 0; j < g.size; ++j)
-          K(i, j) = A.inv_mass + B.inv_mass + rn_a[i].dot(A.inv_inertia * rn_a[j]) +
-                    rn_b[i].dot(B.inv_inertia * rn_b[j]);
+        for (int j = i; j < g.size; ++j) {
+          K(i, j) = A.inv_mass + B.inv_mass + rn_a[i].dot(Irn_a[j]);
+          if (b_moves) K(i, j) += rn_b[i].dot(Irn_b[j]);
+          K(j, i) = K(i, j);
+        }
       g.pinv = pseudoInverse(K, g.size, c.n, rn_a);
     }
     work.groups.push_back(g);
