@@ -331,7 +331,7 @@ const std::vector<std::string>& knownPrivateParams() {
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
       "max_impulse", "relax_inertia", "threads", "curvature",
       // contacts
-      "ground_plane", "contact_mu", "contact_restitution",
+      "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping",
       // ~markers (README "Seeing the simulation")
       "marker_length", "marker_angular_momentum_ref", "marker_angular_velocity_ref",
       "marker_force_ref",
@@ -433,6 +433,7 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   if (*has_curvature) p.world.curvature = curvature;
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu, "0.5"));
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution, "0.0"));
+  CGA_RIGID_SIM_READ(readBool(pnh, "contact_sleeping", &p.world.contact_sleeping));
   XmlRpcValue initial_state;
   auto has_initial_state = readDictionary(pnh, "initial_state", &initial_state,
                                           "{racket_handle: {angular_velocity: [0.0, 10.0, 0.1]}}");

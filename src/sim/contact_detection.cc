@@ -170,7 +170,8 @@ void combine(const Model& model, const scene::SurfaceParameters& a,
 
 // Shapes [first, last) against the plane; `fixed_margin` < 0: each body's travel over the step.
 void planeContacts(const Model& model, const Data& data, CollisionCache& cache, std::size_t first,
-                   std::size_t last, double fixed_margin, std::vector<Contact>& out) {
+                   std::size_t last, double fixed_margin, std::vector<Contact>& out,
+                   const std::vector<char>* asleep = nullptr) {
   const GroundPlane& plane = *model.config.ground_plane;
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   int last_body = -1;
@@ -179,6 +180,7 @@ void planeContacts(const Model& model, const Data& data, CollisionCache& cache, 
     const CollisionCache::Shape& cs = cache.shapes[s];
     const int i = model.moving_of_body[cs.body];
     if (i < 0) continue;
+    if (asleep && !asleep->empty() && (*asleep)[i]) continue;
     const scene::BodyModel& body = model.scene.bodies[cs.body];
     const Shape& shape = body.shapes[cs.shape];
     if (cs.body != last_body && fixed_margin < 0) {
@@ -274,17 +276,26 @@ void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
 }  // namespace
 
 void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
-                    std::vector<Contact>& out) {
-  if (!cache.built || cache.topology != model.topology_version) build(model, cache);
+                    std::vector<Contact>& out, const std::vector<char>* asleep) {
+  const bool rebuilt = !cache.built || cache.topology != model.topology_version;
+  if (rebuilt) build(model, cache);
   if (cache.shapes.empty()) return;
   const double lambda = model.lambda;
+  // A moving body that sleeps (it keeps the pose of its last detection, unless the cache is
+  // new); static bodies count as asleep.
+  const auto sleeps = [&](int body) {
+    const int i = model.moving_of_body[body];
+    return i < 0 || (asleep && !asleep->empty() && (*asleep)[i]);
+  };
   for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
     const CollisionCache::Shape& cs = cache.shapes[s];
+    if (!rebuilt && model.moving_of_body[cs.body] >= 0 && sleeps(cs.body)) continue;
     const cga::Motor M_WS =
         bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
     cache.pose_W[s] = M_WS.toIsometry(lambda);
   }
-  if (model.config.ground_plane) planeContacts(model, data, cache, 0, cache.shapes.size(), -1, out);
+  if (model.config.ground_plane)
+    planeContacts(model, data, cache, 0, cache.shapes.size(), -1, out, asleep);
 
   // Broad phase: intervals of the bounding spheres along x, sorted; a pair is tested when its
   // intervals and its y and z extents overlap.
@@ -309,6 +320,7 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
       if (A.body == B.body) continue;
       const bool b_moving = model.moving_of_body[B.body] >= 0;
       if (!a_moving && !b_moving) continue;
+      if (sleeps(A.body) && sleeps(B.body)) continue;
       if (!cache.joined.empty() &&
           std::binary_search(cache.joined.begin(), cache.joined.end(),
                              std::make_pair(std::min(A.body, B.body), std::max(A.body, B.body))))

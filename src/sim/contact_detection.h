@@ -30,9 +30,11 @@ class CollisionCache;
 std::shared_ptr<CollisionCache> makeCollisionCache();
 
 /// Appends to `out` the contacts at the current poses. Plane contacts come with a speculative
-/// margin of each body's travel over the step (depth ≤ 0: a gap that may close).
+/// margin of each body's travel over the step (depth ≤ 0: a gap that may close). `asleep`
+/// (per moving index, optional): bodies that do not move (contact_sleep.h): their poses are
+/// those of the last detection, and only their pairs with awake moving bodies are tested.
 void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
-                    std::vector<Contact>& out);
+                    std::vector<Contact>& out, const std::vector<char>* asleep = nullptr);
 
 /// One line per pair of bodies that overlap by more than `depth` m at the current poses (the
 /// deepest point), naming the bodies and links: reported once, when a World is created.

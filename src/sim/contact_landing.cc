@@ -66,7 +66,7 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
       r.lambda_n = 0.0;
       r.lambda_t.setZero();
     }
-    const SolveStats stats = solveVelocities(st, S.land_bodies, S.land_trees, S.land_rows);
+    const SolveStats stats = solveVelocities(st, S.land_bodies, S.land_trees, S.land_rows, S.work);
     dissipated = stats.kinetic_before - stats.kinetic_after;
     cga::Moment T;
     for (std::size_t k = 0; k < S.land_found.size(); ++k) {

@@ -11,6 +11,7 @@
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "contact_detection.h"
+#include "contact_sleep.h"
 #include "contact_solver.h"
 
 namespace cga_rigid_sim {
@@ -30,6 +31,8 @@ struct ContactScratch {
   std::vector<dynamics::TreeKinematics> tree_kicked;  ///< per solver tree: after the kick
   std::vector<int> slot_a, slot_b;                    ///< per contact
   std::vector<ContactRow> rows;                       ///< per contact
+  SleepState sleep;                                   ///< the sleeping islands (contact_sleep.h)
+  SolverWork work;  ///< the solver's working arrays (the landings' solves use them too)
   std::vector<std::size_t> previous;           ///< last step's contacts, sorted by their pair
   std::vector<cga::Moment> impulse_B;          ///< per slot: the sum of its contact impulses, B
   std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN

@@ -14,12 +14,7 @@ Eigen::Matrix3d cross(const Eigen::Vector3d& r) {
   return m;
 }
 
-// The velocity of body slot s at arm r (zero for an immovable one or a tree side).
-Eigen::Vector3d pointVelocity(const std::vector<SolverBody>& bodies, int s,
-                              const Eigen::Vector3d& r) {
-  if (s < 0) return Eigen::Vector3d::Zero();
-  return bodies[s].v + bodies[s].w.cross(r);
-}
+using Twist = SolverWork::Twist;
 
 // u = J ν of the contact's tree sides (ν or, for the position correction, pν).
 template <Eigen::VectorXd SolverTree::*Nu>
@@ -30,39 +25,191 @@ Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const Contact
   return u;
 }
 
-Eigen::Vector3d relativeVelocity(const std::vector<SolverBody>& bodies,
-                                 const std::vector<SolverTree>& trees, const ContactRow& c) {
-  Eigen::Vector3d u = pointVelocity(bodies, c.a, c.ra) - pointVelocity(bodies, c.b, c.rb);
-  if (c.ta >= 0 || c.tb >= 0) u += treeVelocity<&SolverTree::nu>(trees, c);
-  return u;
+bool onTree(const ContactRow& c) { return c.ta >= 0 || c.tb >= 0; }
+
+// The relative velocity of a's point against b's (slots a, b of `vel`; the dummy for none),
+// written out in scalars: this and applyTo are the sweeps' whole cost, and the compiler
+// vectorises Eigen's 3-vectors here into partial stores that stall the next load.
+__attribute__((always_inline)) inline Eigen::Vector3d relativeVelocity(
+    const std::vector<Twist>& vel, int a, int b, const ContactRow& c) {
+  const double* va = vel[a].v.data();
+  const double* wa = vel[a].w.data();
+  const double* vb = vel[b].v.data();
+  const double* wb = vel[b].w.data();
+  const double* ra = c.ra.data();
+  const double* rb = c.rb.data();
+  return {va[0] - vb[0] + (wa[1] * ra[2] - wa[2] * ra[1]) - (wb[1] * rb[2] - wb[2] * rb[1]),
+          va[1] - vb[1] + (wa[2] * ra[0] - wa[0] * ra[2]) - (wb[2] * rb[0] - wb[0] * rb[2]),
+          va[2] - vb[2] + (wa[0] * ra[1] - wa[1] * ra[0]) - (wb[0] * rb[1] - wb[1] * rb[0])};
 }
 
-// The impulse P (world axes) at the contact, +P on a and −P on b, added to the velocities
-// (v, w, ν) or, for the position correction, to the pseudo-velocities (pv, pw, pν).
-template <Eigen::Vector3d SolverBody::*V, Eigen::Vector3d SolverBody::*W,
-          Eigen::VectorXd SolverTree::*Nu>
-void applyTo(std::vector<SolverBody>& bodies, std::vector<SolverTree>& trees, const ContactRow& c,
-             const Eigen::Vector3d& P) {
-  for (int side = 0; side < 2; ++side) {
-    const int s = side ? c.b : c.a;
-    if (s < 0) continue;
-    SolverBody& body = bodies[s];
-    const Eigen::Vector3d Ps = side ? Eigen::Vector3d(-P) : P;
-    body.*V += body.inv_mass * Ps;
-    body.*W += body.inv_inertia * (side ? c.rb : c.ra).cross(Ps);
-  }
+// v += s m P, w += s I⁻¹ (r × P) for one side (s = ±1).
+__attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Response& resp,
+                                                const Eigen::Vector3d& r, double px, double py,
+                                                double pz) {
+  const double* q = r.data();
+  const double cx = q[1] * pz - q[2] * py, cy = q[2] * px - q[0] * pz, cz = q[0] * py - q[1] * px;
+  const Eigen::Matrix3d& I = resp.inv_inertia;
+  double* v = t.v.data();
+  double* w = t.w.data();
+  v[0] += resp.inv_mass * px;
+  v[1] += resp.inv_mass * py;
+  v[2] += resp.inv_mass * pz;
+  w[0] += I(0, 0) * cx + I(0, 1) * cy + I(0, 2) * cz;
+  w[1] += I(1, 0) * cx + I(1, 1) * cy + I(1, 2) * cz;
+  w[2] += I(2, 0) * cx + I(2, 1) * cy + I(2, 2) * cz;
+}
+
+// The impulse P (world axes) at the contact, +P on a and −P on b, added to `vel` (the
+// velocities or, for the position correction, the pseudo-velocities); a tree side's to its ν
+// or pν.
+template <Eigen::VectorXd SolverTree::*Nu>
+__attribute__((noinline)) void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c,
+                                            const Eigen::Vector3d& P) {
   if (c.ta >= 0) (trees[c.ta].*Nu).noalias() += c.wa * P;
   if (c.tb >= 0) (trees[c.tb].*Nu).noalias() -= c.wb * P;
 }
 
-void applyImpulse(std::vector<SolverBody>& bodies, std::vector<SolverTree>& trees,
-                  const ContactRow& c, const Eigen::Vector3d& P) {
-  applyTo<&SolverBody::v, &SolverBody::w, &SolverTree::nu>(bodies, trees, c, P);
+template <Eigen::VectorXd SolverTree::*Nu>
+__attribute__((always_inline)) inline void applyTo(
+    std::vector<Twist>& vel, const std::vector<SolverWork::Response>& response,
+    std::vector<SolverTree>& trees, int a, int b, const ContactRow& c, const Eigen::Vector3d& P) {
+  kick(vel[a], response[a], c.ra, P.x(), P.y(), P.z());
+  kick(vel[b], response[b], c.rb, -P.x(), -P.y(), -P.z());
+  if (onTree(c)) applyToTrees<Nu>(trees, c, P);
 }
 
-void applyPseudo(std::vector<SolverBody>& bodies, std::vector<SolverTree>& trees,
-                 const ContactRow& c, const Eigen::Vector3d& P) {
-  applyTo<&SolverBody::pv, &SolverBody::pw, &SolverTree::pnu>(bodies, trees, c, P);
+// The working arrays for `bodies` and `rows`: responses, lever arms, the rows' slots (the
+// dummy for none), and the velocities taken from the bodies (Pos: the pseudo-velocities).
+void load(const std::vector<SolverBody>& bodies, const std::vector<ContactRow>& rows,
+          SolverWork& work) {
+  const int n = static_cast<int>(bodies.size());
+  work.response.resize(n + 1);
+  work.vel.resize(n + 1);
+  work.vel_sweep.resize(n + 1);
+  work.vel_start.resize(n + 1);
+  for (int s = 0; s < n; ++s) {
+    work.response[s].inv_mass = bodies[s].inv_mass;
+    work.response[s].inv_inertia = bodies[s].inv_inertia;
+    work.response[s].reach = 0.0;
+  }
+  work.response[n] = SolverWork::Response();
+  work.vel[n] = Twist();
+  work.a.resize(rows.size());
+  work.b.resize(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const ContactRow& c = rows[k];
+    work.a[k] = c.a >= 0 ? c.a : n;
+    work.b[k] = c.b >= 0 ? c.b : n;
+    if (c.a >= 0) work.response[c.a].reach = std::max(work.response[c.a].reach, c.ra.norm());
+    if (c.b >= 0) work.response[c.b].reach = std::max(work.response[c.b].reach, c.rb.norm());
+  }
+}
+
+// The pseudo-inverse of a block's normal Delassus matrix K (size × size, a unit diagonal
+// beyond). Four corners in one plane: K = Σ Jᵀ M⁻¹ J over both bodies, whose rows span the
+// ones and the in-plane components of r_i × n, so z ⟂ those three (their generalised cross
+// product) is K's null vector, and K⁺ = (K + s ẑẑᵀ)⁻¹ − ẑẑᵀ/s for any s > 0 (closed form, no
+// eigen-decomposition). Fewer corners are regular. Anything else (a degenerate patch): the
+// eigen-decomposition, eigenvalues below 1e-9 of the largest taken as zero.
+Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::Vector3d& n,
+                              const Eigen::Vector3d* rn) {
+  const double s = K.trace() / 4;
+  Eigen::Matrix4d out;
+  bool invertible = false;
+  if (size == 4) {
+    // K = A B Aᵀ with A's columns the ones and the components of r_i × n, which lie in the
+    // plane ⟂ n: two of them (p, q, leaving out n's largest) determine them. z ⟂ A's columns:
+    // z_i = (−1)^i det of A's rows without i.
+    int k = 0;
+    n.cwiseAbs().maxCoeff(&k);
+    const int p = (k + 1) % 3, q = (k + 2) % 3;
+    Eigen::Vector4d z;
+    for (int i = 0; i < 4; ++i) {
+      Eigen::Matrix3d M;
+      for (int j = 0, row = 0; j < 4; ++j)
+        if (j != i) M.row(row++) << 1.0, rn[j](p), rn[j](q);
+      z(i) = (i % 2 ? -1.0 : 1.0) * M.determinant();
+    }
+    const double scale =
+        rn[0].squaredNorm() + rn[1].squaredNorm() + rn[2].squaredNorm() + rn[3].squaredNorm();
+    if (z.norm() > 1e-9 * scale) {  // a patch, not a line
+      z.normalize();
+      const Eigen::Matrix4d zz = z * z.transpose();
+      Eigen::Matrix4d inv;
+      (K + s * zz).computeInverseWithCheck(inv, invertible, 1e-300);
+      out = inv - zz / s;
+    }
+  } else {
+    Eigen::Matrix4d inv;
+    K.computeInverseWithCheck(inv, invertible, 1e-300);
+    out = inv;
+    for (int i = size; i < 4; ++i) out.row(i).setZero(), out.col(i).setZero();
+    invertible = invertible && (K * out).topLeftCorner(size, size).isIdentity(1e-9);
+  }
+  if (invertible) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(K);
+  const double cutoff = 1e-9 * eig.eigenvalues().cwiseAbs().maxCoeff();
+  out.setZero();
+  for (int q = 0; q < 4; ++q)
+    if (eig.eigenvalues()(q) > cutoff)
+      out +=
+          eig.eigenvectors().col(q) * eig.eigenvectors().col(q).transpose() / eig.eigenvalues()(q);
+  for (int i = size; i < 4; ++i) out.row(i).setZero(), out.col(i).setZero();
+  return out;
+}
+
+// The runs of rows solved as blocks (SolverWork::Group), and each block's pseudo-inverse:
+// K_ij = Σ over the movable sides of 1/m + (r_i × n)ᵀ I⁻¹ (r_j × n).
+void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
+  work.groups.clear();
+  for (std::size_t k = 0; k < rows.size();) {
+    std::size_t e = k + 1;
+    const ContactRow& c = rows[k];
+    if (!onTree(c) && std::isfinite(c.k_nn))
+      while (e < rows.size() && e - k < 4 && !onTree(rows[e]) && work.a[e] == work.a[k] &&
+             work.b[e] == work.b[k] && (rows[e].n - c.n).squaredNorm() < 1e-18)
+        ++e;
+    SolverWork::Group g;
+    g.first = static_cast<int>(k);
+    g.size = static_cast<int>(e - k);
+    if (g.size > 1) {
+      Eigen::Matrix4d K = Eigen::Matrix4d::Identity();  // unused rows: a unit diagonal
+      Eigen::Vector3d rn_a[4], rn_b[4];
+      for (int i = 0; i < g.size; ++i) {
+        rn_a[i] = rows[k + i].ra.cross(c.n);
+        rn_b[i] = rows[k + i].rb.cross(c.n);
+      }
+      const SolverWork::Response& A = work.response[work.a[k]];
+      const SolverWork::Response& B = work.response[work.b[k]];
+      const bool b_moves = work.b[k] + 1 < static_cast<int>(work.response.size());
+      Eigen::Vector3d Irn_a[4], Irn_b[4];
+      for (int j = 0; j < g.size; ++j) {
+        Irn_a[j].noalias() = A.inv_inertia * rn_a[j];
+        if (b_moves) Irn_b[j].noalias() = B.inv_inertia * rn_b[j];
+      }
+      for (int i = 0; i < g.size; ++i)
+        for (int j = i; j < g.size; ++j) {
+          K(i, j) = A.inv_mass + B.inv_mass + rn_a[i].dot(Irn_a[j]);
+          if (b_moves) K(i, j) += rn_b[i].dot(Irn_b[j]);
+          K(j, i) = K(i, j);
+        }
+      g.pinv = pseudoInverse(K, g.size, c.n, rn_a);
+    }
+    work.groups.push_back(g);
+    k = e;
+  }
+}
+
+// The largest change of a contact point's (pseudo-)velocity since vel_sweep, over the bodies.
+double bodyChange(const SolverWork& work) {
+  double change = 0.0;
+  const std::size_t n = work.vel.size() - 1;
+  for (std::size_t s = 0; s < n; ++s)
+    change =
+        std::max(change, (work.vel[s].v - work.vel_sweep[s].v).norm() +
+                             work.response[s].reach * (work.vel[s].w - work.vel_sweep[s].w).norm());
+  return change;
 }
 
 // The Jacobian of world point p on body b of tree T: column j is the point's velocity under a
@@ -88,10 +235,13 @@ void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2
 }
 
 // Each row's target from the velocities before any contact impulse.
-void setTargets(const SolverSettings& st, const std::vector<SolverBody>& bodies,
+void setTargets(const SolverSettings& st, const SolverWork& work,
                 const std::vector<SolverTree>& trees, bool bounce, std::vector<ContactRow>& rows) {
-  for (ContactRow& c : rows) {
-    const double u_n = c.n.dot(relativeVelocity(bodies, trees, c));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    ContactRow& c = rows[k];
+    Eigen::Vector3d u = relativeVelocity(work.vel, work.a[k], work.b[k], c);
+    if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
+    const double u_n = c.n.dot(u);
     const double h = st.h;
     const double d = c.depth;
     c.impact = 0.0;
@@ -106,6 +256,55 @@ void setTargets(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       target = std::max(target, c.restitution * c.impact);
     }
     c.target = target;
+  }
+}
+
+// Friction: the impulse that stops the sliding at relative velocity u, projected onto the
+// cone's disc; updates λ_t and returns its change.
+inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u) {
+  const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
+  const double tmax = c.mu * c.lambda_n;
+  Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
+  if (lt.squaredNorm() > tmax * tmax) {                // slides
+    lt = c.lambda_t - u_t * c.inv_k_t;
+    const double t = lt.norm();
+    if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
+  }
+  const Eigen::Vector2d dt = lt - c.lambda_t;
+  c.lambda_t = lt;
+  return dt;
+}
+
+// One sweep over a block of a face's corners: their normal impulses together (the block's
+// pseudo-inverse brings every normal velocity to its target at once), or one by one when that
+// would make one negative; then each corner's friction.
+void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
+                std::vector<ContactRow>& rows) {
+  const int a = work.a[g.first], b = work.b[g.first];
+  Eigen::Vector4d r = Eigen::Vector4d::Zero();
+  for (int i = 0; i < g.size; ++i) {
+    const ContactRow& c = rows[g.first + i];
+    r(i) = c.target - c.n.dot(relativeVelocity(work.vel, a, b, c));
+  }
+  const Eigen::Vector4d d = g.pinv * r;
+  bool feasible = true;
+  for (int i = 0; i < g.size; ++i) feasible = feasible && rows[g.first + i].lambda_n + d(i) >= 0;
+  for (int i = 0; i < g.size; ++i) {
+    ContactRow& c = rows[g.first + i];
+    double dn = d(i);
+    if (!feasible) {  // Gauss–Seidel within the block
+      const double u_n = c.n.dot(relativeVelocity(work.vel, a, b, c));
+      dn = std::max(0.0, c.lambda_n + (c.target - u_n) * c.inv_k_nn) - c.lambda_n;
+    }
+    c.lambda_n += dn;
+    if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
+  }
+  for (int i = 0; i < g.size; ++i) {
+    ContactRow& c = rows[g.first + i];
+    const Eigen::Vector2d dt = frictionStep(c, relativeVelocity(work.vel, a, b, c));
+    if (dt.x() != 0.0 || dt.y() != 0.0)
+      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
+                               dt.x() * c.t1 + dt.y() * c.t2);
   }
 }
 
@@ -182,6 +381,8 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
             tangent.eigenvectors().col(1) * tangent.eigenvectors().col(1).transpose() / top;
       c.k_t = top > cutoff ? top : inf;
     }
+    c.inv_k_nn = 1.0 / c.k_nn;  // 0 for an infinite k: no impulse
+    c.inv_k_t = 1.0 / c.k_t;
     c.mu = ct.mu;
     c.restitution = ct.restitution;
     c.depth = ct.depth;
@@ -198,93 +399,93 @@ double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<So
 }
 
 SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bodies,
-                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows) {
+                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                           SolverWork& work) {
   SolveStats stats;
+  load(bodies, rows, work);
+  makeGroups(rows, work);
+  const std::size_t n = bodies.size();
   // The velocities before any contact impulse: the warm start is applied after the targets
   // are read from them.
-  for (SolverBody& b : bodies) {
-    b.v_start = b.v;
-    b.w_start = b.w;
-  }
+  for (std::size_t s = 0; s < n; ++s) work.vel_start[s] = {bodies[s].v, bodies[s].w};
+  work.vel_start[n] = Twist();
+  std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
   for (SolverTree& t : trees) t.nu_start = t.nu;
+  const auto store = [&] {
+    for (std::size_t s = 0; s < n; ++s) {
+      bodies[s].v = work.vel[s].v;
+      bodies[s].w = work.vel[s].w;
+    }
+  };
   stats.kinetic_before = kineticEnergy(bodies, trees);
-  for (SolverBody& b : bodies) b.reach = 0.0;
-  for (const ContactRow& c : rows) {
-    if (c.a >= 0) bodies[c.a].reach = std::max(bodies[c.a].reach, c.ra.norm());
-    if (c.b >= 0) bodies[c.b].reach = std::max(bodies[c.b].reach, c.rb.norm());
-  }
   double speed = 0.0;  // the fastest contact point's speed before the impulses
-  for (const SolverBody& b : bodies) speed = std::max(speed, b.v.norm() + b.reach * b.w.norm());
+  for (std::size_t s = 0; s < n; ++s)
+    speed = std::max(speed, work.vel[s].v.norm() + work.response[s].reach * work.vel[s].w.norm());
   for (const ContactRow& c : rows)
-    if (c.ta >= 0 || c.tb >= 0)
-      speed = std::max(speed, treeVelocity<&SolverTree::nu>(trees, c).norm());
+    if (onTree(c)) speed = std::max(speed, treeVelocity<&SolverTree::nu>(trees, c).norm());
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
                            st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
+  bool any_tree = false;
+  for (const ContactRow& c : rows) any_tree = any_tree || onTree(c);
 
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
-      for (SolverBody& b : bodies) {
-        b.v = b.v_start;
-        b.w = b.w_start;
-      }
+      std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
       for (SolverTree& t : trees) t.nu = t.nu_start;
       for (ContactRow& c : rows) {
         c.lambda_n = 0.0;
         c.lambda_t.setZero();
       }
     }
-    setTargets(st, bodies, trees, bounce, rows);
-    for (ContactRow& c : rows) {  // warm start, inside the cone
+    setTargets(st, work, trees, bounce, rows);
+    for (std::size_t k = 0; k < rows.size(); ++k) {  // warm start, inside the cone
+      ContactRow& c = rows[k];
       c.lambda_n = std::max(0.0, c.lambda_n);
       const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
       if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
-      applyImpulse(bodies, trees, c,
-                   c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
+      applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
+                               c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
     }
     int it = 0;
     for (; it < st.max_iterations; ++it) {
-      for (SolverBody& b : bodies) {
-        b.v_sweep = b.v;
-        b.w_sweep = b.w;
-      }
+      std::copy(work.vel.begin(), work.vel.end(), work.vel_sweep.begin());
       for (SolverTree& t : trees) t.nu_sweep = t.nu;
-      for (ContactRow& c : rows) {
+      for (const SolverWork::Group& g : work.groups) {
+        if (g.size > 1) {
+          sweepGroup(g, work, trees, rows);
+          continue;
+        }
+        const std::size_t k = g.first;
+        ContactRow& c = rows[k];
+        const int a = work.a[k], b = work.b[k];
         // Normal: the impulse that brings u_n to its target, kept ≥ 0.
-        Eigen::Vector3d u = relativeVelocity(bodies, trees, c);
-        const double ln = std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) / c.k_nn);
+        Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
+        if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
+        const double ln = std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
         const double dn = ln - c.lambda_n;
         c.lambda_n = ln;
         u += dn * c.k_n;  // the velocity after it, without applying it yet
-        // Friction: the impulse that stops the sliding, projected onto the cone's disc.
-        const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
-        const double tmax = c.mu * c.lambda_n;
-        Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
-        if (lt.norm() > tmax) {                              // slides
-          lt = c.lambda_t - u_t / c.k_t;
-          const double t = lt.norm();
-          if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
-        }
-        const Eigen::Vector2d dt = lt - c.lambda_t;
-        c.lambda_t = lt;
+        const Eigen::Vector2d dt = frictionStep(c, u);
         // Both at once: one application per contact and sweep.
-        if (dn != 0.0 || !dt.isZero(0.0))
-          applyImpulse(bodies, trees, c, dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
+        if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0)
+          applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
+                                   dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
       }
-      double change = 0.0;
-      for (const SolverBody& b : bodies)
-        change = std::max(change, (b.v - b.v_sweep).norm() + b.reach * (b.w - b.w_sweep).norm());
-      // A tree's change as its contact points see it.
-      for (SolverTree& t : trees) t.nu_sweep = t.nu - t.nu_sweep;
-      for (const ContactRow& c : rows)
-        if (c.ta >= 0 || c.tb >= 0)
-          change = std::max(change, treeVelocity<&SolverTree::nu_sweep>(trees, c).norm());
+      double change = bodyChange(work);
+      if (any_tree) {  // a tree's change as its contact points see it
+        for (SolverTree& t : trees) t.nu_sweep = t.nu - t.nu_sweep;
+        for (const ContactRow& c : rows)
+          if (onTree(c))
+            change = std::max(change, treeVelocity<&SolverTree::nu_sweep>(trees, c).norm());
+      }
       if (change < tolerance) {
         ++it;
         break;
       }
     }
     stats.iterations += it;
+    store();
     stats.kinetic_after = kineticEnergy(bodies, trees);
     bool any_bounce = false;
     for (const ContactRow& c : rows) any_bounce = any_bounce || c.impact > 0;
@@ -296,8 +497,14 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
 }
 
 void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
-                    std::vector<SolverTree>& trees, std::vector<ContactRow>& rows) {
+                    std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                    SolverWork& work) {
   for (SolverTree& t : trees) t.pnu.setZero(t.nu.size());
+  const std::size_t n = bodies.size();
+  for (SolverBody& b : bodies) {
+    b.pv.setZero();
+    b.pw.setZero();
+  }
   double max_bias = 0.0;
   for (ContactRow& c : rows) {
     c.bias = c.depth > st.slop ? st.correction * (c.depth - st.slop) / st.h : 0.0;
@@ -305,35 +512,36 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     max_bias = std::max(max_bias, c.bias);
   }
   if (max_bias == 0.0) return;
+  load(bodies, rows, work);  // the responses (unchanged since the velocity solve)
+  std::fill(work.vel.begin(), work.vel.end(), Twist());
+  bool any_tree = false;
+  for (const ContactRow& c : rows) any_tree = any_tree || onTree(c);
   for (int it = 0; it < st.position_iterations; ++it) {
-    for (SolverBody& b : bodies) {
-      b.v_sweep = b.pv;
-      b.w_sweep = b.pw;
-    }
+    std::copy(work.vel.begin(), work.vel.end(), work.vel_sweep.begin());
     for (SolverTree& t : trees) t.pnu_sweep = t.pnu;
-    for (ContactRow& c : rows) {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      ContactRow& c = rows[k];
       if (c.bias <= 0 && c.lambda_p == 0.0) continue;
-      const Eigen::Vector3d pa = c.a >= 0
-                                     ? Eigen::Vector3d(bodies[c.a].pv + bodies[c.a].pw.cross(c.ra))
-                                     : Eigen::Vector3d::Zero();
-      const Eigen::Vector3d pb = c.b >= 0
-                                     ? Eigen::Vector3d(bodies[c.b].pv + bodies[c.b].pw.cross(c.rb))
-                                     : Eigen::Vector3d::Zero();
-      double u = c.n.dot(pa - pb);
-      if (c.ta >= 0 || c.tb >= 0) u += c.n.dot(treeVelocity<&SolverTree::pnu>(trees, c));
-      const double lp = std::max(0.0, c.lambda_p + (c.bias - u) / c.k_nn);
+      const int a = work.a[k], b = work.b[k];
+      double u = c.n.dot(relativeVelocity(work.vel, a, b, c));
+      if (onTree(c)) u += c.n.dot(treeVelocity<&SolverTree::pnu>(trees, c));
+      const double lp = std::max(0.0, c.lambda_p + (c.bias - u) * c.inv_k_nn);
       const double d = lp - c.lambda_p;
       c.lambda_p = lp;
-      if (d != 0.0) applyPseudo(bodies, trees, c, d * c.n);
+      if (d != 0.0) applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
     }
-    double change = 0.0;
-    for (const SolverBody& b : bodies)
-      change = std::max(change, (b.pv - b.v_sweep).norm() + b.reach * (b.pw - b.w_sweep).norm());
-    for (SolverTree& t : trees) t.pnu_sweep = t.pnu - t.pnu_sweep;
-    for (const ContactRow& c : rows)
-      if (c.ta >= 0 || c.tb >= 0)
-        change = std::max(change, treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
+    double change = bodyChange(work);
+    if (any_tree) {
+      for (SolverTree& t : trees) t.pnu_sweep = t.pnu - t.pnu_sweep;
+      for (const ContactRow& c : rows)
+        if (onTree(c))
+          change = std::max(change, treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
+    }
     if (change < 1e-3 * max_bias) break;  // 0.1 % of the largest correction: plenty
+  }
+  for (std::size_t s = 0; s < n; ++s) {
+    bodies[s].pv = work.vel[s].v;
+    bodies[s].pw = work.vel[s].w;
   }
 }
 

@@ -11,8 +11,11 @@
 //              (u_t = 0) inside it, sliding with λ_t opposite u_t on its rim. A diagonal push
 //              sees the same cone as a straight one.
 // Warm-started from the impulses of the same contacts in the last step, so a resting stack
-// starts at its solution. A solve whose restitution would raise the kinetic energy (several
-// simultaneous impacts) is redone with e = 0, which never raises it (doc/contacts.md proves it).
+// starts at its solution. The corners of a face (consecutive contacts between the same two
+// bodies with one normal) take their normal impulses as one block (SolverWork::Group), which
+// Gauss–Seidel corner by corner would trade between them for ever. A solve whose restitution
+// would raise the kinetic energy (several simultaneous impacts) is redone with e = 0, which
+// never raises it (doc/contacts.md proves it).
 //
 // The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
 // impulses are applied to the states as CGA impulses afterwards (stage_contacts.cc), so the
@@ -47,15 +50,6 @@ struct SolverBody {
   // Pseudo-velocities of the position correction (they move the pose, not the momentum).
   Eigen::Vector3d pv = Eigen::Vector3d::Zero();
   Eigen::Vector3d pw = Eigen::Vector3d::Zero();
-  /// The longest lever arm of its contacts, m: a change of w moves a contact point by up to
-  /// reach·|Δw|.
-  double reach = 0.0;
-  // The velocities before any contact impulse (the energy guard starts again from them).
-  Eigen::Vector3d v_start = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_start = Eigen::Vector3d::Zero();
-  // The (pseudo-)velocities before the current sweep, for the convergence test.
-  Eigen::Vector3d v_sweep = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_sweep = Eigen::Vector3d::Zero();
 };
 
 /// An articulated tree as the solver sees it: its generalized velocity and mass matrix at the
@@ -93,9 +87,10 @@ struct ContactRow {
   /// −u_t, and is projected onto the cone, so its fixed point has λ_t opposite its slip
   /// (maximal dissipation); projecting the exact step would turn it.
   double k_t = 0.0;
-  double depth = 0.0;   ///< penetration, m (≤ 0: a gap)
-  double target = 0.0;  ///< the lower bound of u_n after the step, m/s
-  double bias = 0.0;    ///< position correction's target pseudo-velocity, m/s
+  double inv_k_nn = 0.0, inv_k_t = 0.0;  ///< 1/k_nn, 1/k_t (0 where k is infinite)
+  double depth = 0.0;                    ///< penetration, m (≤ 0: a gap)
+  double target = 0.0;                   ///< the lower bound of u_n after the step, m/s
+  double bias = 0.0;                     ///< position correction's target pseudo-velocity, m/s
   double mu = 0.0;
   double restitution = 0.0;
   double impact = 0.0;  ///< −u_n before the solve when it is an impact, else 0
@@ -129,6 +124,38 @@ struct SolverSettings {
   double tolerance_of_speed = 1e-9;
 };
 
+/// The solver's working arrays, kept between steps so that a step allocates only when the
+/// problem grows. The sweeps read and write the bodies' velocities here, side by side, rather
+/// than in SolverBody (large: a pile's bodies would not stay in the cache); slot n (one past
+/// the last body) is an immovable dummy with zero velocity and response, which the rows'
+/// immovable and tree sides point to, so that a contact update has no branch per side.
+struct SolverWork {
+  struct Twist {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  };
+  struct Response {
+    double inv_mass = 0.0;
+    Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Zero();
+    /// The longest lever arm of its contacts, m: a change of w moves a contact point by up to
+    /// reach·|Δw|.
+    double reach = 0.0;
+  };
+  /// Per slot + the dummy: the (pseudo-)velocities; before the current sweep (the convergence
+  /// test); before any contact impulse (the energy guard starts again from them).
+  std::vector<Twist> vel, vel_sweep, vel_start;
+  std::vector<Response> response;  ///< per slot + the dummy
+  std::vector<int> a, b;           ///< per row: its slots, the dummy for none
+  /// A run of consecutive rows between the same two bodies with one normal (a face's corners,
+  /// at most four; a single row otherwise): their normal impulses are solved as one block.
+  struct Group {
+    int first = 0, size = 1;
+    /// The pseudo-inverse of the block's normal Delassus matrix (size × size, top left): four
+    /// coplanar corners leave one combination of impulses that moves nothing.
+    Eigen::Matrix4d pinv = Eigen::Matrix4d::Zero();
+  };
+  std::vector<Group> groups;
+};
+
 struct SolveStats {
   int iterations = 0;
   double kinetic_before = 0.0, kinetic_after = 0.0;
@@ -142,10 +169,12 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
 /// Solves the velocity impulses (rows' lambda_n, lambda_t hold the warm start on entry) and
 /// leaves the bodies' v, w and the trees' ν at their values after the impulses.
 SolveStats solveVelocities(const SolverSettings& settings, std::vector<SolverBody>& bodies,
-                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows);
+                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                           SolverWork& work);
 /// Solves the position correction's pseudo-velocities pv, pw and pν (normal only, no friction).
 void solvePositions(const SolverSettings& settings, std::vector<SolverBody>& bodies,
-                    std::vector<SolverTree>& trees, std::vector<ContactRow>& rows);
+                    std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                    SolverWork& work);
 /// Σ ½ m v² + ½ w·I w over the bodies plus Σ ½ νᵀ M ν over the trees.
 double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees);
 

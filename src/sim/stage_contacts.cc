@@ -79,12 +79,17 @@ SolverBody solverBody(const Model& model, const dynamics::BodyState& s,
   return out;
 }
 
-void solveContacts(const Model& model, Data& data) {
-  if (!data.contact_scratch) data.contact_scratch = std::make_shared<ContactScratch>();
-  ContactScratch& S = *data.contact_scratch;
+namespace {
+
+// The contacts of the awake bodies: detected, solved, applied.
+void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   S.found.clear();
   data.contact_sweeps = 0;
-  detectContacts(model, data, *S.cache, S.found);
+  detectContacts(model, data, *S.cache, S.found, &S.sleep.asleep);
+  while (wakeTouched(model, data, S.sleep, S.found)) {  // their own contacts too
+    S.found.clear();
+    detectContacts(model, data, *S.cache, S.found, &S.sleep.asleep);
+  }
   if (S.found.empty()) {
     data.contacts.clear();
     return;
@@ -244,8 +249,8 @@ void solveContacts(const Model& model, Data& data) {
     }
   }
 
-  data.contact_sweeps = solveVelocities(settings, S.bodies, S.trees, S.rows).iterations;
-  solvePositions(settings, S.bodies, S.trees, S.rows);
+  data.contact_sweeps = solveVelocities(settings, S.bodies, S.trees, S.rows, S.work).iterations;
+  solvePositions(settings, S.bodies, S.trees, S.rows, S.work);
   for (std::size_t u = 0; u < S.trees.size(); ++u) {
     const int t = S.tree_of_solver_tree[u];
     if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
@@ -350,6 +355,16 @@ void solveContacts(const Model& model, Data& data) {
     data.contacts[k].friction_impulse_W = r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
   }
   data.contacts.insert(data.contacts.end(), S.landed.begin(), S.landed.end());
+}
+
+}  // namespace
+
+void solveContacts(const Model& model, Data& data) {
+  if (!data.contact_scratch) data.contact_scratch = std::make_shared<ContactScratch>();
+  ContactScratch& S = *data.contact_scratch;
+  wakeChanged(model, data, S.sleep);
+  solveAwake(model, data, S);
+  fallAsleep(model, data, S.sleep);
 }
 
 }  // namespace sim

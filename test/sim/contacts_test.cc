@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/sim/inputs.h"
 #include "contact_fixtures.h"
 
 namespace cga_rigid_sim {
@@ -283,6 +284,107 @@ TEST(Contacts, BodiesStartingToOverlapAreReportedAndSeparatedWithoutEnergy) {
   const double gap = (stateNamed(*w, "b").com - stateNamed(*w, "a").com).norm() - 0.2;
   EXPECT_GE(gap, -6e-5);
   EXPECT_EQ(momentumOf(*w, "total").kinetic_energy, 0.0);
+}
+
+// Sleeping (doc/contacts.md#sleeping). Truth: a stack of three boxes settles and then falls
+// asleep: once its contact points have moved slower than 1e-6 m/s for 0.2 s its velocities are
+// exactly zero, no contact is solved (no sweep), its contacts are still reported (4 corners per
+// face: 12), its poses do not change by a bit for the next 5 s, and the energy book balances
+// (kinetic + potential + dissipated = initial, round-off of the ~60 J: 1e-9 J). A wrench that
+// friction cannot hold then wakes it and moves the box it pushes (½ (F/m − μ g) t² = 2.5 cm in
+// 0.1 s alone; > 1 mm whatever the box above it does).
+TEST(Contacts, SettledStackFallsAsleepAndStaysPutExactly) {
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 3; ++i)
+    bodies.push_back(block("b" + std::to_string(i), 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1 + 0.2 * i}));
+  auto w = contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.0);
+  const auto m0 = momentumOf(*w, "total");
+  w->step(1000);
+  const auto s1 = w->bodyStates();
+  for (const auto& b : s1) {
+    EXPECT_EQ(b.linear_velocity.norm(), 0.0) << b.name;
+    EXPECT_EQ(b.angular_velocity.norm(), 0.0) << b.name;
+  }
+  EXPECT_EQ(w->data().contact_sweeps, 0);
+  EXPECT_EQ(w->contacts().size(), 12u);
+  w->step(5000);
+  const auto s2 = w->bodyStates();
+  for (std::size_t i = 0; i < s1.size(); ++i) {
+    EXPECT_EQ(s2[i].com, s1[i].com) << s1[i].name;
+    EXPECT_EQ(s2[i].pose_root.matrix(), s1[i].pose_root.matrix()) << s1[i].name;
+  }
+  const auto m = momentumOf(*w, "total");
+  EXPECT_NEAR(m.kinetic_energy + m.potential_energy + m.dissipated_energy,
+              m0.kinetic_energy + m0.potential_energy, 1e-9);
+  // A wrench wakes it: 10 N sideways on the top box for 0.1 s, more than μ m g = 4.9 N holds.
+  sim::WrenchInput push;
+  push.body = "b2";
+  push.F = cga::Force(Eigen::Vector3d(10, 0, 0), 0.0);
+  push.point = s2[2].com;
+  push.duration = 0.1;
+  ASSERT_TRUE(w->applyWrench(push).ok());
+  w->step(100);
+  EXPECT_GT(stateNamed(*w, "b2").com.x() - s2[2].com.x(), 1e-3);
+}
+
+// Truth: a sleeping island wakes as a whole. An impulse J on the middle box of a sleeping
+// stack of three moves it at once (J/m in the step it acts, as for any body) and wakes the
+// boxes it rests on and carries: in the next steps their contacts are solved again; a box
+// struck sideways by 0.5 N s slides (μ = 0.5 cannot hold it), the two others stay on it or
+// under it. With sleeping off (WorldConfig::contact_sleeping = false) the same stack is solved
+// every step and never frozen.
+TEST(Contacts, SleepingIslandWakesOnAnImpulseAndSleepingCanBeTurnedOff) {
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < 3; ++i)
+    bodies.push_back(block("b" + std::to_string(i), 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1 + 0.2 * i}));
+  auto w = contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.0);
+  w->step(1000);
+  ASSERT_EQ(w->data().contact_sweeps, 0);  // asleep
+  sim::ImpulseInput imp;
+  imp.body = "b1";
+  imp.J = cga::Force(Eigen::Vector3d(0.5, 0, 0), 0.0);
+  imp.point = stateNamed(*w, "b1").com;
+  ASSERT_TRUE(w->applyImpulse(imp).ok());
+  w->step();
+  EXPECT_GT(w->data().contact_sweeps, 0);
+  EXPECT_GT(stateNamed(*w, "b1").linear_velocity.x(), 0.1);
+  w->step(50);
+  EXPECT_GT(w->data().contact_sweeps, 0);
+  EXPECT_GT(stateNamed(*w, "b1").com.x(), 0.005);  // it slid
+  EXPECT_GT(stateNamed(*w, "b2").com.x(), 0.0);    // carried along (or tipped), not frozen
+
+  sim::WorldConfig config;
+  config.contact_mu = 0.5;
+  config.ground_plane = sim::GroundPlane{};
+  config.contact_sleeping = false;
+  auto awake = sim::World::create(makeScene(bodies, {0, 0, -kG}), config);
+  ASSERT_TRUE(awake.ok()) << awake.error();
+  for (int s = 0; s < 2000; ++s) {
+    (*awake)->step();
+    ASSERT_GT((*awake)->data().contact_sweeps, 0) << "step " << s;
+  }
+}
+
+// Truth: an awake body touching a sleeping one wakes it: a ball dropped onto a box asleep on
+// the ground pushes it into the ground and off centre, so the box moves (it tilts or slides:
+// its velocity is not zero in the steps after the impact), and the ball does not pass through
+// it (it stays above the box's top face, within the 50 µm slop).
+TEST(Contacts, AnAwakeBodyWakesTheSleepingBodyItTouches) {
+  auto w = contactWorld(makeScene({block("box", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}),
+                                   ball("ball", 5.0, 0.05, {0.08, 0.0, 2.0})},
+                                  {0, 0, -kG}),
+                        0.5, 0.0);
+  w->step(500);  // the box sleeps; the ball is still falling (it lands at 0.6 s)
+  ASSERT_EQ(stateNamed(*w, "box").linear_velocity.norm(), 0.0);
+  ASSERT_GT(stateNamed(*w, "ball").com.z(), 0.4);
+  double box_speed = 0.0, ball_low = 1.0;
+  for (int s = 0; s < 600; ++s) {
+    w->step();
+    box_speed = std::max(box_speed, stateNamed(*w, "box").angular_velocity.norm());
+    ball_low = std::min(ball_low, stateNamed(*w, "ball").com.z());
+  }
+  EXPECT_GT(box_speed, 1e-3);
+  EXPECT_GT(ball_low, 0.2 + 0.05 - 2e-3);
 }
 
 // Truth: the tabletop example scene (urdf/tabletop.urdf, started as config/tabletop.yaml does)

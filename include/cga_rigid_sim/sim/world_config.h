@@ -48,6 +48,11 @@ struct WorldConfig {
   /// ~contact_restitution): μ finite and ≥ 0, e in [0, 1].
   double contact_mu = 0.5;
   double contact_restitution = 0.0;
+  /// Sleeping (doc/contacts.md#sleeping): a group of bodies in contact whose contact points
+  /// all stay slower than 1e-6 m/s for 0.2 s is frozen (Ω = 0, not stepped, its contacts kept)
+  /// until a state set, an impulse, a wrench, a change of gravity or an awake body touching
+  /// it wakes it. false: every body in contact is solved every step.
+  bool contact_sleeping = true;
 
   /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
   /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all

@@ -1,0 +1,170 @@
+#include "contact_sleep.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cga_rigid_sim/dynamics/derived.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+int find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// The moving index of scene body j, or −1 (the ground, a static body).
+int movingOf(const Model& model, int j) { return j < 0 ? -1 : model.moving_of_body[j]; }
+
+void wakeIsland(const Model& model, Data& data, SleepState& S, int label) {
+  S.woken.assign(S.island.size(), 0);
+  for (std::size_t i = 0; i < S.island.size(); ++i) {
+    if (S.island[i] != label) continue;
+    S.woken[i] = 1;
+    S.island[i] = -1;
+    S.asleep[i] = 0;
+    S.still[i] = 0;
+    --S.count;
+    MovingBodyData& b = data.bodies[i];
+    if (b.contact_step == MovingBodyData::ContactStep::kDone)
+      b.contact_step = MovingBodyData::ContactStep::kNone;
+  }
+  // Its contacts are detected again from now on (last step's, in data.contacts, warm-start
+  // them).
+  const auto of_island = [&](const Contact& c) {
+    const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
+    return (a >= 0 && S.woken[a]) || (b >= 0 && S.woken[b]);
+  };
+  S.contacts.erase(std::remove_if(S.contacts.begin(), S.contacts.end(), of_island),
+                   S.contacts.end());
+}
+
+void reset(const Model& model, Data& data, SleepState& S) {
+  const std::size_t n = data.bodies.size();
+  for (std::size_t i = 0; i < S.asleep.size() && i < n; ++i)
+    if (S.asleep[i] && data.bodies[i].contact_step == MovingBodyData::ContactStep::kDone)
+      data.bodies[i].contact_step = MovingBodyData::ContactStep::kNone;
+  S.topology = model.topology_version;
+  S.still.assign(n, 0);
+  S.island.assign(n, -1);
+  S.asleep.assign(n, 0);
+  S.rotation.resize(n);
+  S.position.resize(n);
+  S.contacts.clear();
+  S.gravity = model.scene.gravity_W;
+  S.count = 0;
+}
+
+}  // namespace
+
+void wakeChanged(const Model& model, Data& data, SleepState& S) {
+  if (!model.config.contact_sleeping || S.topology != model.topology_version ||
+      S.still.size() != data.bodies.size() || S.gravity != model.scene.gravity_W) {
+    if (S.count > 0 || S.topology != model.topology_version ||
+        S.still.size() != data.bodies.size() || S.gravity != model.scene.gravity_W)
+      reset(model, data, S);
+    return;
+  }
+  if (S.count == 0) return;
+  const double lambda = model.lambda;
+  for (std::size_t i = 0; i < data.bodies.size(); ++i) {
+    if (!S.asleep[i]) continue;
+    const MovingBodyData& b = data.bodies[i];
+    // Set from outside: any velocity (an impulse, a state set), a moved pose, a wrench.
+    const bool changed = !b.state.omega_B.rot.isZero(0.0) || !b.state.omega_B.trans.isZero(0.0) ||
+                         b.loads.hasApplied() || b.loads_dirty ||
+                         b.state.M_WB.rotation().coeffs() != S.rotation[i].coeffs() ||
+                         b.state.M_WB.translation(lambda) != S.position[i];
+    if (changed) wakeIsland(model, data, S, S.island[i]);
+  }
+  for (std::size_t i = 0; i < data.bodies.size(); ++i)
+    if (S.asleep[i]) data.bodies[i].contact_step = MovingBodyData::ContactStep::kDone;
+}
+
+bool wakeTouched(const Model& model, Data& data, SleepState& S, const std::vector<Contact>& found) {
+  if (S.count == 0) return false;
+  bool woke = false;
+  for (const Contact& c : found)
+    for (const int j : {c.body_a, c.body_b}) {
+      const int i = movingOf(model, j);
+      if (i >= 0 && S.asleep[i]) {
+        wakeIsland(model, data, S, S.island[i]);
+        woke = true;
+      }
+    }
+  return woke;
+}
+
+void fallAsleep(const Model& model, Data& data, SleepState& S) {
+  if (!model.config.contact_sleeping) return;
+  const std::size_t n = data.bodies.size();
+  const double lambda = model.lambda, h = model.config.dt;
+  const int steps = std::max(1, static_cast<int>(std::ceil(kSleepTime / h - 1e-9)));
+  // The fastest contact point of each awake body; bodies joined by contacts.
+  S.speed.assign(n, -1.0);  // −1: no contact this step
+  S.blocked.assign(n, 0);
+  S.parent.resize(n);
+  for (std::size_t i = 0; i < n; ++i) S.parent[i] = static_cast<int>(i);
+  for (const Contact& c : data.contacts) {
+    const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
+    for (const int i : {a, b}) {
+      if (i < 0 || S.asleep[i] || S.speed[i] >= kSleepSpeed) continue;  // known to move
+      const MovingBodyData& body = data.bodies[i];
+      // Links move with their trees; a landing body is mid-flight within the step.
+      if (model.tree_of_moving[i] >= 0 || body.contact_step == MovingBodyData::ContactStep::kDone) {
+        S.blocked[i] = 1;
+        continue;
+      }
+      // Not the contact point's own velocity (a rolling ball's is zero): the body's fastest
+      // point within reach of its contacts, |v| + |ω| |p − x|.
+      const double arm = (c.point_W - dynamics::comPosition_W(body.state, lambda)).norm();
+      const double v = dynamics::comVelocity_W(body.state, lambda).norm() +
+                       dynamics::angularVelocity_W(body.state).norm() * arm;
+      S.speed[i] = std::max(S.speed[i], v);
+    }
+    if (a >= 0 && b >= 0) S.parent[find(S.parent, a)] = find(S.parent, b);
+  }
+  // Still steps in a row; an island is blocked by any member that is not still long enough.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (S.asleep[i]) continue;
+    S.still[i] = S.speed[i] >= 0 && S.speed[i] < kSleepSpeed ? S.still[i] + 1 : 0;
+    if (S.blocked[i] || S.still[i] < steps) S.blocked[find(S.parent, static_cast<int>(i))] = 1;
+  }
+  const Eigen::Vector3d& g = model.scene.gravity_W;
+  bool fell = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (S.asleep[i] || S.speed[i] < 0) continue;
+    const int root = find(S.parent, static_cast<int>(i));
+    if (S.blocked[root]) continue;
+    // Asleep from here: it stays where the contact stage left it (no drift), at rest. The
+    // energy book had it drift by h v + shift and keep its kinetic energy: both go to the
+    // dissipated energy instead, so the book still balances.
+    MovingBodyData& b = data.bodies[i];
+    const dynamics::Inertia& I = model.moving[i].inertia;
+    const Eigen::Vector3d v = dynamics::comVelocity_W(b.state, lambda);
+    data.dissipated_energy +=
+        I.kineticEnergy(b.state.omega_B, lambda) - I.mass() * g.dot(h * v + b.contact_shift_W);
+    b.state.omega_B = cga::Bivelocity();
+    b.contact_shift_W.setZero();
+    b.contact_step = MovingBodyData::ContactStep::kDone;
+    S.island[i] = root;
+    S.asleep[i] = 1;
+    S.rotation[i] = b.state.M_WB.rotation();
+    S.position[i] = b.state.M_WB.translation(lambda);
+    ++S.count;
+    fell = true;
+  }
+  if (fell) {
+    // The new sleepers' contacts (data.contacts holds the awake bodies' only, and an island
+    // sleeps whole): every contact of a sleeper.
+    for (const Contact& c : data.contacts) {
+      const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
+      if ((a >= 0 && S.asleep[a]) || (b >= 0 && S.asleep[b])) S.contacts.push_back(c);
+    }
+  }
+  data.contacts.insert(data.contacts.end(), S.contacts.begin(), S.contacts.end());
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
