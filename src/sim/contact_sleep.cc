@@ -54,6 +54,7 @@ void reset(const Model& model, Data& data, SleepState& S) {
   S.contacts.clear();
   S.gravity = model.scene.gravity_W;
   S.count = 0;
+  S.counting = false;
 }
 
 }  // namespace
@@ -98,6 +99,10 @@ bool wakeTouched(const Model& model, Data& data, SleepState& S, const std::vecto
 
 void fallAsleep(const Model& model, Data& data, SleepState& S) {
   if (!model.config.contact_sleeping) return;
+  // Nothing touches anything and no still steps are counted: nothing can fall asleep, and the
+  // per-body passes below would cost a few ns per body and step of every free body (serially:
+  // the World at 10 000 free bodies on 2 threads went from 17 to 35 ns a body-step).
+  if (data.contacts.empty() && S.contacts.empty() && !S.counting) return;
   const std::size_t n = data.bodies.size();
   const double lambda = model.lambda, h = model.config.dt;
   const int steps = std::max(1, static_cast<int>(std::ceil(kSleepTime / h - 1e-9)));
@@ -126,9 +131,11 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
     if (a >= 0 && b >= 0) S.parent[find(S.parent, a)] = find(S.parent, b);
   }
   // Still steps in a row; an island is blocked by any member that is not still long enough.
+  S.counting = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (S.asleep[i]) continue;
     S.still[i] = S.speed[i] >= 0 && S.speed[i] < kSleepSpeed ? S.still[i] + 1 : 0;
+    S.counting = S.counting || S.still[i] > 0;
     if (S.blocked[i] || S.still[i] < steps) S.blocked[find(S.parent, static_cast<int>(i))] = 1;
   }
   const Eigen::Vector3d& g = model.scene.gravity_W;

@@ -35,7 +35,8 @@ struct SleepState {
   std::vector<Eigen::Vector3d> position;
   std::vector<Contact> contacts;  ///< the sleepers' contacts, as they were
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
-  int count = 0;  ///< sleepers
+  int count = 0;          ///< sleepers
+  bool counting = false;  ///< some awake body has still steps counted
   // Scratch of fallAsleep, per moving index.
   std::vector<int> parent;
   std::vector<double> speed;
