@@ -246,32 +246,7 @@ void MidpointResidual::massMatrix(Eigen::MatrixXd& M) {
     Composite& cp = C[p];
     const double* R = frame_[b].R;
     const double* t = frame_[b].t;
-    const double* I = c.I;
-    double RI[9];  // R I_o, I_o symmetric
-    for (int i = 0; i < 3; ++i) {
-      const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];
-      RI[3 * i] = r0 * I[0] + r1 * I[3] + r2 * I[4];
-      RI[3 * i + 1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
-      RI[3 * i + 2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
-    }
-    const auto rowDot = [&](int i, int k) {
-      return RI[3 * i] * R[3 * k] + RI[3 * i + 1] * R[3 * k + 1] + RI[3 * i + 2] * R[3 * k + 2];
-    };
-    double hr[3];
-    mul(R, c.h, hr);
-    const double m = c.m;
-    const double diag = 2.0 * dot(hr, t) + m * dot(t, t);
-    const auto shift = [&](int i, int k) {
-      return -(t[i] * hr[k] + hr[i] * t[k] + m * t[i] * t[k]);
-    };
-    cp.I[0] += rowDot(0, 0) + diag + shift(0, 0);
-    cp.I[1] += rowDot(1, 1) + diag + shift(1, 1);
-    cp.I[2] += rowDot(2, 2) + diag + shift(2, 2);
-    cp.I[3] += rowDot(0, 1) + shift(0, 1);
-    cp.I[4] += rowDot(0, 2) + shift(0, 2);
-    cp.I[5] += rowDot(1, 2) + shift(1, 2);
-    for (int i = 0; i < 3; ++i) cp.h[i] += hr[i] + m * t[i];
-    cp.m += m;
+    tree_math::addCompositeToParent(R, t, c, cp);
   }
   // Column k: F = I_c s_k in body k + 1's frame, carried towards the base (F ← (R τ + t × R f,
   // R f)) and paired with each ancestor's screw. Entries off the ancestor chains are zero.

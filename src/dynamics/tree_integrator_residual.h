@@ -26,6 +26,7 @@
 
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "tree_math.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -90,9 +91,7 @@ class MidpointResidual {
   };
   // A composite rigid-body inertia about a body's origin (lengths over λ, m' = m λ²): I_o
   // (xx, yy, zz, xy, xz, yz), h = m' c, m' (tree_momentum.cc).
-  struct Composite {
-    double I[6], h[3], m;
-  };
+  using Composite = tree_math::Composite;
   const ArticulatedBody* tree_ = nullptr;
   int joints_ = -1;
   std::vector<Joint> joint_;

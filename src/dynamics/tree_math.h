@@ -35,6 +35,48 @@ inline Vector6d vec(const cga::Moment& m) {
 inline cga::Bivelocity bivector(const Vector6d& x) { return {x.head<3>(), x.tail<3>()}; }
 inline cga::Moment moment(const Vector6d& x) { return {x.head<3>(), x.tail<3>()}; }
 
+/// A composite rigid body in one body's frame, the CRBA's ten numbers: the inertia about the
+/// frame's origin I_o (xx, yy, zz, xy, xz, yz), the first moment h = m c and the mass m.
+struct Composite {
+  double I[6];
+  double h[3];
+  double m;
+};
+
+/// Adds the composite c of a child whose frame sits at x_p = R x_b + t in its parent's (R as
+/// nine numbers, row-major) to `parent`: m and h ← R h + m t, and I_o ← R I_o Rᵀ +
+/// (2 h'·t + m t·t) 1 − (t h'ᵀ + h' tᵀ) − m t tᵀ with h' = R h (the parallel-axis shift of the
+/// centre of mass from R c to R c + t).
+inline void addCompositeToParent(const double* R, const double* t, const Composite& c,
+                                 Composite& parent) {
+  const double* I = c.I;
+  double RI[9];  // R I_o, I_o symmetric
+  for (int i = 0; i < 3; ++i) {
+    const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];
+    RI[3 * i] = r0 * I[0] + r1 * I[3] + r2 * I[4];
+    RI[3 * i + 1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
+    RI[3 * i + 2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
+  }
+  const auto rowDot = [&](int i, int k) {
+    return RI[3 * i] * R[3 * k] + RI[3 * i + 1] * R[3 * k + 1] + RI[3 * i + 2] * R[3 * k + 2];
+  };
+  double hr[3];
+  for (int i = 0; i < 3; ++i)
+    hr[i] = R[3 * i] * c.h[0] + R[3 * i + 1] * c.h[1] + R[3 * i + 2] * c.h[2];
+  const double m = c.m;
+  const double diag = 2.0 * (hr[0] * t[0] + hr[1] * t[1] + hr[2] * t[2]) +
+                      m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  const auto shift = [&](int i, int k) { return -(t[i] * hr[k] + hr[i] * t[k] + m * t[i] * t[k]); };
+  parent.I[0] += rowDot(0, 0) + diag + shift(0, 0);
+  parent.I[1] += rowDot(1, 1) + diag + shift(1, 1);
+  parent.I[2] += rowDot(2, 2) + diag + shift(2, 2);
+  parent.I[3] += rowDot(0, 1) + shift(0, 1);
+  parent.I[4] += rowDot(0, 2) + shift(0, 2);
+  parent.I[5] += rowDot(1, 2) + shift(1, 2);
+  for (int i = 0; i < 3; ++i) parent.h[i] += hr[i] + m * t[i];
+  parent.m += m;
+}
+
 /// ⟨T, Ω⟩ = τ·w + f·v, the power of a moment on a velocity.
 inline double pairing(const cga::Moment& T, const cga::Bivelocity& B) {
   return T.rot.dot(B.rot) + T.trans.dot(B.trans);

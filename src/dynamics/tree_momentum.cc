@@ -14,46 +14,18 @@ namespace {
 // A composite rigid-body inertia about its frame's origin in the coefficients of
 // tree_math::inertiaMatrix (lengths over λ, m' = m λ²): the 6×6 map
 //   (w, u) ↦ (I_o w + h × u, w × h + m' u),   I_o symmetric, h = m' c (c the centre of mass),
-// kept as its ten numbers instead of 36: carrying it to the parent and adding it there cost a
-// tenth of the 6×6 congruence (tree_math::addToParent).
-struct Composite {
-  double I[6];  // I_o: xx, yy, zz, xy, xz, yz
-  double h[3];
-  double m;
-};
+// kept as its ten numbers (tree_math::Composite) instead of 36: carrying it to the parent and
+// adding it there cost a tenth of the 6×6 congruence.
+using tree_math::Composite;
 
-// Composite of body b in its parent's frame, added to `parent`: with x_p = R x_b + t,
-// m and h ← R h + m t, and I_o ← R I_o Rᵀ + (2 h'·t + m t·t) 1 − (t h'ᵀ + h' tᵀ) − m t tᵀ with
-// h' = R h (the parallel-axis shift of the centre of mass from R c to R c + t).
+// Composite of body b in its parent's frame (R_P, t_P: Eigen's column-major R as row-major
+// numbers), added to `parent` (tree_math::addCompositeToParent).
 void addToParent(const Eigen::Matrix3d& R, const Eigen::Vector3d& tv, const Composite& c,
                  Composite& parent) {
-  const double* I = c.I;
-  // R I_o: rows of R times the symmetric I_o.
-  double RI[3][3];
-  for (int i = 0; i < 3; ++i) {
-    const double r0 = R(i, 0), r1 = R(i, 1), r2 = R(i, 2);
-    RI[i][0] = r0 * I[0] + r1 * I[3] + r2 * I[4];
-    RI[i][1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
-    RI[i][2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
-  }
-  const auto rowDot = [&](int i, int j) {
-    return RI[i][0] * R(j, 0) + RI[i][1] * R(j, 1) + RI[i][2] * R(j, 2);
-  };
+  const double Rr[9] = {R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
+                        R(1, 2), R(2, 0), R(2, 1), R(2, 2)};
   const double t[3] = {tv.x(), tv.y(), tv.z()};
-  double hr[3];
-  for (int i = 0; i < 3; ++i) hr[i] = R(i, 0) * c.h[0] + R(i, 1) * c.h[1] + R(i, 2) * c.h[2];
-  const double m = c.m;
-  const double diag = 2.0 * (hr[0] * t[0] + hr[1] * t[1] + hr[2] * t[2]) +
-                      m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-  const auto shift = [&](int i, int j) { return -(t[i] * hr[j] + hr[i] * t[j] + m * t[i] * t[j]); };
-  parent.I[0] += rowDot(0, 0) + diag + shift(0, 0);
-  parent.I[1] += rowDot(1, 1) + diag + shift(1, 1);
-  parent.I[2] += rowDot(2, 2) + diag + shift(2, 2);
-  parent.I[3] += rowDot(0, 1) + shift(0, 1);
-  parent.I[4] += rowDot(0, 2) + shift(0, 2);
-  parent.I[5] += rowDot(1, 2) + shift(1, 2);
-  for (int i = 0; i < 3; ++i) parent.h[i] += hr[i] + m * t[i];
-  parent.m += m;
+  tree_math::addCompositeToParent(Rr, t, c, parent);
 }
 
 // The moment I_c s of a composite on a screw s = (w, u).
