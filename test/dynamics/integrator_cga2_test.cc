@@ -260,20 +260,10 @@ TEST(Cga2, NearlySymmetricBodyHasNoRoundOffDrift) {
 // 5e-14 and 3.7e-9 m (15×) without. Bounds: 1e-15 for the norm (a few ε of one step), and the
 // benchmark's allowance for T5, 10 √N u |x| ≈ 2.4e-9 m.
 TEST(Cga2, MotorNormAndParabolaHoldAtLargeAngles) {
-  const Inertia I = principal(Vector3d(0.02, 0.03, 0.04), 2.0);
-  BodyState s;
-  s.omega_B = cga::Bivelocity(Vector3d(3, 20, -5), Vector3d(5, 0, 10));
-  const Vector3d g(0, 0, -9.81), x0 = comPosition_W(s, 1.0), v0 = comVelocity_W(s, 1.0);
-  Loads loads;
-  loads.setGravity(g);
   Cga2Integrator cga2;
-  const int n = 2000;
-  const double h = 0.05, t = n * h;
-  for (int k = 0; k < n; ++k) cga2.step(I, loads, 1.0, h, s);
-  const Vector3d x = x0 + t * v0 + (0.5 * t * t) * g;
-  EXPECT_LE(std::abs(s.M_WB.rotation().coeffs().squaredNorm() - 1.0), 1e-15);
-  EXPECT_LE((comPosition_W(s, 1.0) - x).norm(),
-            10.0 * std::sqrt(double(n)) * (0.5 * kEps) * x.norm());
+  const testing::ParabolaRun run = testing::spinningProjectileOnParabola(cga2, 0.05, 2000);
+  EXPECT_LE(std::abs(run.end.M_WB.rotation().coeffs().squaredNorm() - 1.0), 1e-15);
+  EXPECT_LE(run.com_error, 10.0 * run.random_walk);
 }
 
 // Truth: the per-body cache (the ratios of the moments) must follow the inertia it is given. A
