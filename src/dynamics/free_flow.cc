@@ -58,9 +58,12 @@ inline bool isOdd(double m) {
 }
 
 // The rotation by ψ about the unit axis u: (cos ψ/2, sin ψ/2 u).
+// The rotor (cos ψ/2, sin ψ/2 u) of an angle ψ ∈ [−π, π] (reduced: the half angle is within
+// sinCosReduced's range).
 inline Eigen::Quaterniond axisAngle(const Eigen::Vector3d& u, double psi) {
-  const double s = std::sin(0.5 * psi);
-  return Eigen::Quaterniond(std::cos(0.5 * psi), s * u.x(), s * u.y(), s * u.z());
+  double s, c;
+  sinCosReduced(0.5 * psi, s, c);
+  return Eigen::Quaterniond(c, s * u.x(), s * u.y(), s * u.z());
 }
 
 // The shortest rotation taking the unit vector u to the unit vector a: (1 + u·a, u × a),
@@ -466,9 +469,11 @@ __attribute__((always_inline)) inline void attitudeAt(FreeFlowCache& c, double t
     case Path::kSymmetric: {
       c.psi = reduceAngle(c.psi_a + c.rate * t);
       c.psi3 = reduceAngle(c.psi3_a + c.beta * t);
-      r = c.Q * axisAngle(c.axis, c.psi) * axisAngle(Eigen::Vector3d::UnitZ(), c.psi3);
-      // w_B = Rot(e3, −ψ3) w_B(0).
-      const double s = std::sin(c.psi3), co = std::cos(c.psi3);
+      double s3, c3;  // of ψ3/2
+      sinCosReduced(0.5 * c.psi3, s3, c3);
+      r = c.Q * axisAngle(c.axis, c.psi) * Eigen::Quaterniond(c3, 0.0, 0.0, s3);
+      // w_B = Rot(e3, −ψ3) w_B(0), sin and cos of ψ3 from those of its half.
+      const double s = 2.0 * s3 * c3, co = (c3 - s3) * (c3 + s3);
       w_new = Eigen::Vector3d(co * c.w0.x() + s * c.w0.y(), co * c.w0.y() - s * c.w0.x(), c.w0.z());
       break;
     }
