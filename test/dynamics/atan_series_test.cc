@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "common/ulps.h"
 
@@ -16,22 +18,37 @@ namespace {
 
 using testing::ulps;
 
+// A uniform sample of n points of [−bound, bound], and each of `extra` with both signs.
+std::vector<double> samplePoints(double bound, unsigned seed, std::initializer_list<double> extra) {
+  std::vector<double> xs;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-bound, bound);
+  for (int i = 0; i < 500000; ++i) xs.push_back(u(rng));
+  for (double x : extra) {
+    xs.push_back(x);
+    xs.push_back(-x);
+  }
+  return xs;
+}
+
+// The largest distance in ulps of series(x) from std::atan(x) over xs.
+double worstUlps(const std::vector<double>& xs, double (*series)(double)) {
+  double worst = 0;
+  for (double x : xs) worst = std::max(worst, ulps(series(x), std::atan(x)));
+  return worst;
+}
+
 // Truth: std::atan. Tolerance: 2 ulp (measured: 1) — the series' truncation is below 1e-18
 // relative and its evaluation, x + x z P(z), rounds a correction of at most z/3 ≤ 1/768 of x
 // about once. Points: a uniform sample of [−1/16, 1/16], magnitudes spread over 1e-300 … 1/16
 // (log-uniform), the bound and its neighbours, 0 and −0.
 TEST(AtanSeries, WithinTwoUlpOfTheLibrary) {
-  std::vector<double> xs;
+  std::vector<double> xs = samplePoints(
+      kAtanSeriesBound, 4, {kAtanSeriesBound, std::nextafter(kAtanSeriesBound, 0.0), 1e-8, 1e-3});
   std::mt19937_64 rng(4);
-  std::uniform_real_distribution<double> u(-kAtanSeriesBound, kAtanSeriesBound), e(-690.0, -2.78);
-  for (int i = 0; i < 500000; ++i) xs.push_back(u(rng));
+  std::uniform_real_distribution<double> e(-690.0, -2.78);
   for (int i = 0; i < 500000; ++i) xs.push_back((i % 2 ? 1.0 : -1.0) * std::exp(e(rng)));
-  for (double x : {kAtanSeriesBound, std::nextafter(kAtanSeriesBound, 0.0), 1e-8, 1e-3}) {
-    xs.push_back(x);
-    xs.push_back(-x);
-  }
-  double worst = 0;
-  for (double x : xs) worst = std::max(worst, ulps(atanSeries(x), std::atan(x)));
+  const double worst = worstUlps(xs, atanSeries);
   EXPECT_LE(worst, 2.0);
   EXPECT_TRUE(std::signbit(atanSeries(-0.0)));
   EXPECT_EQ(atanSeries(0.0), 0.0);
@@ -44,17 +61,11 @@ TEST(AtanSeries, WithinTwoUlpOfTheLibrary) {
 // is at most z/3 ≤ 1/192 of x, rounded about once. Points: a uniform sample of [−1/8, 1/8], the
 // bounds and their neighbours.
 TEST(AtanSeries, WideSeriesWithinTwoUlpOfTheLibrary) {
-  std::vector<double> xs;
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-kAtanSeriesWideBound, kAtanSeriesWideBound);
-  for (int i = 0; i < 500000; ++i) xs.push_back(u(rng));
-  for (double x : {kAtanSeriesWideBound, std::nextafter(kAtanSeriesWideBound, 0.0),
-                   std::nextafter(kAtanSeriesBound, 1.0), 0.066, 1e-3}) {
-    xs.push_back(x);
-    xs.push_back(-x);
-  }
-  double worst = 0;
-  for (double x : xs) worst = std::max(worst, ulps(atanSeriesWide(x), std::atan(x)));
+  const std::vector<double> xs =
+      samplePoints(kAtanSeriesWideBound, 5,
+                   {kAtanSeriesWideBound, std::nextafter(kAtanSeriesWideBound, 0.0),
+                    std::nextafter(kAtanSeriesBound, 1.0), 0.066, 1e-3});
+  const double worst = worstUlps(xs, atanSeriesWide);
   EXPECT_LE(worst, 2.0);
   EXPECT_TRUE(std::signbit(atanSeriesWide(-0.0)));
   // The dispatcher: the short series up to 1/16, the wide one above it.
