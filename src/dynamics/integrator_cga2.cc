@@ -247,16 +247,41 @@ CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, Bod
   turnInto(f.d, u);
 }
 
+// The loads of one step as the kicks need them: when they are all world-axes loads at the
+// centre of mass (gravity, pushes through it, couples: Loads::worldSums), their world sums, formed
+// once per step, so that a kick is one or two rotations into the body and no pass over the loads.
+struct StepLoads {
+  const Loads& loads;
+  bool world_sums;
+  bool has_force, has_couple;
+  Eigen::Vector3d f_W, couple_W;
+
+  StepLoads(const Loads& l, double mass) : loads(l) {
+    world_sums = l.hasApplied() && l.worldSums(mass, f_W, couple_W);
+    has_force = world_sums && !f_W.isZero(0.0);
+    has_couple = world_sums && !couple_W.isZero(0.0);
+  }
+};
+
 // K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose (Loads::moment_B: one
 // rotation into the body for all world-axes parts): (I∧n)⁻¹ (τ_B, λ f_B) = (τ_B/J, f_B/(m λ)).
-CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const Loads& loads, double lambda, double tau,
-                            const Cache& cache, BodyState& s) {
+CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads, double lambda,
+                            double tau, const Cache& cache, BodyState& s) {
+  const Loads& loads = step_loads.loads;
   if (!loads.hasApplied()) {
     // Gravity alone (the common case): the velocity change τ R̃ g.
     s.omega_B.trans += (tau / lambda) * Loads::toBody(s.M_WB.rotorQuaternion(), loads.gravity());
     return;
   }
   const double m = inertia.mass();
+  if (step_loads.world_sums) {
+    const Eigen::Quaterniond& r = s.M_WB.rotorQuaternion();
+    if (step_loads.has_couple)
+      s.omega_B.rot += tau * Loads::toBody(r, step_loads.couple_W).cwiseProduct(cache.inv_J);
+    if (step_loads.has_force)
+      s.omega_B.trans += (tau / (m * lambda)) * Loads::toBody(r, step_loads.f_W);
+    return;
+  }
   const cga::Moment T = loads.moment_B(m, s.M_WB, lambda);
   s.omega_B.rot += tau * T.rot.cwiseProduct(cache.inv_J);
   s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
@@ -289,8 +314,9 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
     }
     return;
   }
+  const StepLoads step_loads(loads, inertia.mass());
   renormalise(state);
-  kick(inertia, loads, lambda, 0.5 * gamma[0] * h, cache, state);
+  kick(inertia, step_loads, lambda, 0.5 * gamma[0] * h, cache, state);
 #pragma GCC unroll 8
   for (int i = 0; i < S; ++i) {
     const double tau = gamma[i] * h;
@@ -302,7 +328,8 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
       state.omega_B.rot[j] = f.w[j];
       state.omega_B.trans[j] = u[j];
     }
-    kick(inertia, loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), cache, state);
+    kick(inertia, step_loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), cache,
+         state);
   }
 }
 

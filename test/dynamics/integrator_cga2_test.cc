@@ -42,6 +42,22 @@ Loads someLoads() {
   return loads;
 }
 
+// Loads that are all fixed in the world and act at the centre of mass: the kicks take them from
+// their world sums (Loads::worldSums) instead of a pass over the loads at each kick.
+Loads worldLoadsAtTheCentre() {
+  Loads loads;
+  loads.setGravity(Vector3d(0.3, -0.1, -9.81));
+  AppliedLoad push;
+  push.axes = Axes::kWorld;
+  push.F = cga::Force(Vector3d(1, -2, 0.5));
+  loads.add(push);
+  AppliedLoad couple;
+  couple.axes = Axes::kWorld;
+  couple.couple = Vector3d(0.2, -0.4, 0.1);
+  loads.add(couple);
+  return loads;
+}
+
 // The splitting written literally from its definition with the general motor exponential and
 // Eigen rotations (integrator_cga2.h; axes sorted J1 ≤ J2 ≤ J3, reference J_r = J2,
 // κ_i = 1 − J_i/J2): K(h/2) D(h/2) C(h) R1(κ1 h/2) R3(κ3 h) R1(κ1 h/2) D(h/2) K(h/2), with
@@ -92,20 +108,22 @@ void literalStep(const Inertia& I, const Loads& loads, double lambda, double h, 
 // checks against the reference algebra). The fast step merges the drifts, composes the rotors
 // sparsely and sums the series itself: the two differ by round-off only. Per step each motor
 // coefficient (size ≤ |x|/λ ≈ 3) carries a few ε; after 100 steps (errors random) the bound
-// 1e-12 absolute is ≈ 20× the expected ~5e-14.
+// 1e-12 absolute is ≈ 20× the expected ~5e-14. Three kinds of loads: none, general ones (a
+// world push off the centre, a body-axes thruster), and world-axes loads at the centre only
+// (the kicks' world-sums path).
 TEST(Cga2, StepIsTheDocumentedSplittingOfExactMotorExponentials) {
   testing::Rng rng(7);
-  for (int trial = 0; trial < 6; ++trial) {
-    const bool loaded = trial % 2;
-    const double lambda = trial < 3 ? 1.0 : 2.5;
+  for (int trial = 0; trial < 9; ++trial) {
+    const int kind = trial % 3;
+    const double lambda = trial < 5 ? 1.0 : 2.5;
     const Inertia I = principal(Vector3d(0.7, 1.1, 1.6) + rng.vec(0.2).cwiseAbs(), 1.7);
-    const Loads loads = loaded ? someLoads() : Loads();
+    const Loads loads = kind == 0 ? Loads() : kind == 1 ? someLoads() : worldLoadsAtTheCentre();
     BodyState fast;
     fast.M_WB = rng.motor(2.0, lambda);
     fast.omega_B = cga::Bivelocity::fromVelocities(rng.vec(3.0), rng.vec(2.0), lambda);
     BodyState literal = fast;
     Cga2Integrator cga2;
-    const double h = 0.01 * (1 + trial);  // angles per piece up to ~0.2 rad: both series tiers
+    const double h = 0.01 * (1 + trial % 6);  // angles per piece up to ~0.2 rad: both tiers
     for (int k = 0; k < 100; ++k) {
       cga2.step(I, loads, lambda, h, fast);
       literalStep(I, loads, lambda, h, literal);

@@ -93,6 +93,40 @@ TEST(Loads, CouplesAndGravity) {
   EXPECT_LE((G.force(2.0) - 3.0 * (R.conjugate() * g)).norm(), 1e-14);
 }
 
+// Truth: moment_B, the general evaluation. When every applied load is fixed in the world and
+// acts at the centre of mass (or is a couple), worldSums gives m g + Σ f and Σ τ, and the body
+// moment is (R̃ Σ τ, λ R̃ (m g + Σ f)): equal to moment_B to the round-off of one rotation of
+// vectors of size ~30 (1e-13). A load at another point or fixed in the body: false.
+TEST(Loads, WorldSumsAtTheCentre) {
+  const Quaterniond R(Eigen::AngleAxisd(0.8, Vector3d(-1, 2, 0.3).normalized()));
+  const double lambda = 1.5, m = 2.5;
+  const cga::Motor M = cga::Motor::fromPose(R, Vector3d(1, -2, 3), lambda);
+  Loads loads;
+  loads.setGravity(Vector3d(0, 0, -9.81));
+  AppliedLoad push;
+  push.axes = Axes::kWorld;
+  push.F = cga::Force(Vector3d(3, -1, 2));
+  push.couple = Vector3d(0.5, 0.25, -1);
+  loads.add(push);
+  Vector3d f_W, couple_W;
+  ASSERT_TRUE(loads.worldSums(m, f_W, couple_W));
+  EXPECT_EQ(f_W, m * Vector3d(0, 0, -9.81) + Vector3d(3, -1, 2));
+  EXPECT_EQ(couple_W, Vector3d(0.5, 0.25, -1));
+  const cga::Moment T = loads.moment_B(m, M, lambda);
+  EXPECT_LE((T.rot - R.conjugate() * couple_W).norm(), 1e-13);
+  EXPECT_LE((T.trans - lambda * (R.conjugate() * f_W)).norm(), 1e-13);
+
+  Loads off_centre = loads;
+  push.point_B = Vector3d(0.1, 0, 0);
+  off_centre.add(push);
+  EXPECT_FALSE(off_centre.worldSums(m, f_W, couple_W));
+  Loads in_body = loads;
+  AppliedLoad thruster;
+  thruster.axes = Axes::kBody;
+  in_body.add(thruster);
+  EXPECT_FALSE(in_body.worldSums(m, f_W, couple_W));
+}
+
 // Truth (doc/conventions.md (E12)): α drops out of T = (M̃ λ X∧F M)∧n exactly (λ X∧(αn)∧n = 0), so
 // loads that differ only in α give the same moment, bit for bit, and the reference algebra's moment
 // of αn alone is zero.
