@@ -6,6 +6,7 @@
 #include <array>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "tree_integrator_residual.h"
 #include "tree_integrators.h"
 #include "tree_math.h"
 
@@ -88,10 +89,10 @@ class Explicit final : public TreeIntegrator {
     nu.tail(tree.jointCount()) = s.v;
   }
 
+  // A fixed base under gravity alone (the common case) takes MidpointResidual's stage (frames
+  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics.
   void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
                     Eigen::VectorXd& out) {
-    treeKinematics(tree, s, kin_);
-    externalMoments(tree, kin_, loads, f_ext_);
     Eigen::VectorXd& tau = tau_;
     tau = loads.effort;
     for (int k = 0; k < tree.jointCount(); ++k) {
@@ -99,6 +100,12 @@ class Explicit final : public TreeIntegrator {
       tau[k] -= j.damping * s.v[k];
       if (s.v[k] != 0.0) tau[k] -= (s.v[k] > 0 ? j.friction : -j.friction);
     }
+    if (MidpointResidual::applies(tree, loads)) {
+      stage_dynamics_.prepare(tree);
+      return stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
+    }
+    treeKinematics(tree, s, kin_);
+    externalMoments(tree, kin_, loads, f_ext_);
     forwardDynamics(tree, s, kin_, tau, f_ext_, out);
   }
 
@@ -108,6 +115,7 @@ class Explicit final : public TreeIntegrator {
   Coeffs km_[4];
   TreeKinematics kin_;
   BodyMoments f_ext_;
+  MidpointResidual stage_dynamics_;
 };
 
 }  // namespace

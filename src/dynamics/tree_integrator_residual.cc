@@ -409,5 +409,103 @@ void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d&
   }
 }
 
+void MidpointResidual::accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                     const Eigen::Vector3d& g_W, const Eigen::VectorXd& tau,
+                                     Eigen::VectorXd& qdd) {
+  const int n = joints_;
+  Body* const bodies = body_.data();
+  {
+    Body& base = bodies[0];
+    for (int i = 0; i < 3; ++i) {
+      base.w[i] = base.u[i] = base.a[i] = 0.0;
+      base.a[i + 3] = -g_W[i] / tree_->lambda();  // (0, −g/λ): gravity as the base's motion
+    }
+  }
+  // Outward: frames, bivelocities Ω_b, the accelerations a_b at q̈ = 0 (A3) and the net moments
+  // f_b = I(a_b) − (Ω_b × I(Ω_b)) they need.
+  for (int k = 0; k < n; ++k) {
+    const Joint& j = joint_[k];
+    Body& b = bodies[k + 1];
+    const Body& pa = bodies[j.parent];
+    Frame& f = frame_[k + 1];
+    double* const R = f.R;
+    double* const t = f.t;
+    if (j.revolute) {
+      double sh, ch;
+      halfSinCos(0.5 * q[k], sh, ch);
+      rodrigues(j, 2.0 * sh * ch, 2.0 * sh * sh, R);
+      double Rc[3];
+      mul(R, j.c, Rc);
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] - Rc[i];
+    } else {
+      for (int i = 0; i < 9; ++i) R[i] = j.A[i];
+      for (int i = 0; i < 3; ++i) t[i] = j.d[i] + q[k] * j.c[i];
+    }
+    // X_b = M_bp X_p M̃_bp = (Rᵀ w, Rᵀ (u − t × w)) for Ω and a alike.
+    double tw[3], ta[3], pu[3], pau[3];
+    cross(t, pa.w, tw);
+    cross(t, pa.a, ta);
+    for (int i = 0; i < 3; ++i) {
+      pu[i] = pa.u[i] - tw[i];
+      pau[i] = pa.a[i + 3] - ta[i];
+    }
+    double w[3], u[3], aw[3], au[3];
+    mulT(R, pa.w, w);
+    mulT(R, pu, u);
+    mulT(R, pa.a, aw);
+    mulT(R, pau, au);
+    const double vk = v[k];
+    const double* s = j.s;
+    for (int i = 0; i < 3; ++i) {
+      w[i] += vk * s[i];
+      u[i] += vk * s[i + 3];
+    }
+    // + q̇ (s × Ω_b), s × Ω = (−u_s × w, −(u_s × u + m_s × w)) (cga::commutator).
+    double sw[3], su[3], mw[3];
+    cross(s, w, sw);
+    cross(s, u, su);
+    cross(s + 3, w, mw);
+    for (int i = 0; i < 3; ++i) {
+      aw[i] -= vk * sw[i];
+      au[i] -= vk * (su[i] + mw[i]);
+    }
+    // f_b = (J a_w − J w × w, m' a_u − m' u × w) (Inertia::apply, gyroscopic).
+    const double Jw[3] = {j.J[0] * w[0], j.J[1] * w[1], j.J[2] * w[2]};
+    double Jww[3], uw[3];
+    cross(Jw, w, Jww);
+    cross(u, w, uw);
+    for (int i = 0; i < 3; ++i) {
+      b.w[i] = w[i];
+      b.u[i] = u[i];
+      b.a[i] = aw[i];
+      b.a[i + 3] = au[i];
+      b.F[i] = j.J[i] * aw[i] - Jww[i];
+      b.F[i + 3] = j.m2 * (au[i] - uw[i]);
+    }
+  }
+  // Inward: b_k = ⟨f_k, s⟩ with f_k the subtree's moments in the child's frame; the right-hand
+  // side τ − b into qdd.
+  qdd.resize(n);
+  for (int k = n - 1; k >= 0; --k) {
+    const Joint& j = joint_[k];
+    Body& b = bodies[k + 1];
+    qdd[k] = tau[k] - (dot(b.F, j.s) + dot(b.F + 3, j.s + 3));
+    if (j.parent == 0) continue;
+    const double* R = frame_[k + 1].R;
+    double RF[3], Rt[3], tF[3];
+    mul(R, b.F + 3, RF);
+    mul(R, b.F, Rt);
+    cross(frame_[k + 1].t, RF, tF);
+    double* Fp = bodies[j.parent].F;
+    for (int i = 0; i < 3; ++i) {
+      Fp[i] += Rt[i] + tF[i];
+      Fp[i + 3] += RF[i];
+    }
+  }
+  massMatrix(mass_);
+  llt_.compute(mass_);
+  llt_.solveInPlace(qdd);
+}
+
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -1,6 +1,7 @@
 // MidpointResidual: the residual of the variational midpoint's equations (tree_integrator_
 // midpoint.cc) in one outward and one inward pass, for the common case of a fixed-base tree
-// under gravity and joint efforts alone (no loads applied to its links). Internal.
+// under gravity and joint efforts alone (no loads applied to its links); on the same constants
+// also the explicit integrators' stage for that case (accelerations()). Internal.
 //
 // At the midpoint q̄ = q + ½h q̄̇ with rates q̄̇ it yields what treeKinematics, gravityMoments and
 // momentumAndGradient together yield there — the joint momenta p = M(q̄) q̄̇ and the gradient
@@ -58,6 +59,15 @@ class MidpointResidual {
   /// The power of gravity at the last evaluate()'s midpoint, Σ ⟨F_b, Ω_b⟩ (needed once a
   /// step, not in every pass).
   double gravityPower() const;
+  /// The explicit integrators' stage (rk4, euler): the accelerations q̈ = M(q)⁻¹ (τ − b(q, q̇))
+  /// at positions q and rates v under gravity g_W and joint forces tau — forwardDynamics() to
+  /// round-off, with the frames by Rodrigues as above, M by massMatrix() on them and the bias b
+  /// by one RNEA pass with q̈ = 0 and the base accelerating at −g (so that gravity needs no
+  /// frame of its own). For 7 joints this is about half the operations of ABA's 6×6
+  /// articulated inertias (doc/articulated.md#integrators). Leaves the frames of q for
+  /// massMatrix(); no allocation once sized.
+  void accelerations(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::Vector3d& g_W,
+                     const Eigen::VectorXd& tau, Eigen::VectorXd& qdd);
 
  private:
   struct Joint {
@@ -83,8 +93,8 @@ class MidpointResidual {
     // dual quaternion's (w, x, y, z): P0 = M_PC, P1 = M_PC (u, −m) or M_PC (0, −½m).
     double P0[8], P1[8];
   };
-  struct Body {  // per body, scratch of one evaluation
-    double R[9], t[3], g[3], w[3], u[3], H[6], F[6];
+  struct Body {  // per body, scratch of one evaluation (a: accelerations())
+    double R[9], t[3], g[3], w[3], u[3], H[6], F[6], a[6];
   };
   struct Frame {  // per body, its frame in its parent's at the last endPose()
     double R[9], t[3];
@@ -99,6 +109,8 @@ class MidpointResidual {
   std::vector<Frame> frame_;
   std::vector<Composite> composite_;
   std::vector<double> sin_half_, cos_half_;
+  Eigen::MatrixXd mass_;  // accelerations(): M(q), its factor
+  tree_math::Cholesky llt_;
 };
 
 }  // namespace dynamics
