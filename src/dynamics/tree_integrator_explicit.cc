@@ -102,8 +102,17 @@ class Explicit final : public TreeIntegrator {
     }
     if (MidpointResidual::applies(tree, loads)) {
       stage_dynamics_.prepare(tree);
-      return stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
+      stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
+      if (general_sized_) return;
+      // The general path's scratch is sized now, so that a later step with a load on a link
+      // (which takes it) does not allocate: its accelerations here are discarded.
+      general_sized_ = true;
+      treeKinematics(tree, s, kin_);
+      externalMoments(tree, kin_, loads, f_ext_);
+      forwardDynamics(tree, s, kin_, tau, f_ext_, scratch_);
+      return;
     }
+    general_sized_ = true;
     treeKinematics(tree, s, kin_);
     externalMoments(tree, kin_, loads, f_ext_);
     forwardDynamics(tree, s, kin_, tau, f_ext_, out);
@@ -116,6 +125,8 @@ class Explicit final : public TreeIntegrator {
   TreeKinematics kin_;
   BodyMoments f_ext_;
   MidpointResidual stage_dynamics_;
+  bool general_sized_ = false;  // the general path has run once (its scratch has its sizes)
+  Eigen::VectorXd scratch_;
 };
 
 }  // namespace
