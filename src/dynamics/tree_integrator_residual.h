@@ -45,8 +45,9 @@ class MidpointResidual {
   /// from the same constants: M_pb = M_PC exp(−½ q s) is linear in (cos ½q, sin ½q), R_P and
   /// t_P come by Rodrigues as in evaluate(). Also does startAt(q): the next step starts there.
   void endPose(const Eigen::VectorXd& q, TreeKinematics& kin);
-  /// The mass matrix M(q) at the positions of the last endPose(): massMatrix() (CRBA on
-  /// composite inertias) to round-off, on the frames endPose() kept.
+  /// The mass matrix M(q) at the positions of the last endPose() (or accelerations()):
+  /// massMatrix() (CRBA on composite inertias) to round-off, on the frames endPose() kept, with
+  /// composites and screws in one frame per subtree of the base (the .cc).
   void massMatrix(Eigen::MatrixXd& M);
   /// The bivelocities kin.omega at the pose of the last endPose() and joint rates v:
   /// treeVelocities() to round-off.
@@ -99,6 +100,9 @@ class MidpointResidual {
   struct Frame {  // per body, its frame in its parent's at the last endPose()
     double R[9], t[3];
   };
+  struct Screw {  // per joint, massMatrix()'s screw in its subtree root's frame
+    double s[6];
+  };
   // A composite rigid-body inertia about a body's origin (lengths over λ, m' = m λ²): I_o
   // (xx, yy, zz, xy, xz, yz), h = m' c, m' (tree_momentum.cc).
   using Composite = tree_math::Composite;
@@ -107,6 +111,8 @@ class MidpointResidual {
   std::vector<Joint> joint_;
   std::vector<Body> body_;
   std::vector<Frame> frame_;
+  std::vector<Frame> root_frame_;  // massMatrix(): each body's frame in its subtree root's
+  std::vector<Screw> root_screw_;
   std::vector<Composite> composite_;
   std::vector<double> sin_half_, cos_half_;
   Eigen::MatrixXd mass_;  // accelerations(): M(q), its factor

@@ -166,6 +166,34 @@ TEST(MidpointResidual, AccelerationsAreAbasAndSatisfyTheRnea) {
   }
 }
 
+// The mass matrix is assembled in each base subtree's root frame, not the world's: a tree mounted
+// 10 km from the origin keeps the digits of one at the origin (in the world's frame, m t² ≈ 1e8
+// per link would leave about 1e-8 of an O(1) entry).
+TEST(MidpointResidual, MassMatrixOfATreeFarFromTheOriginKeepsItsDigits) {
+  std::mt19937 rng(2029);
+  for (int trial = 0; trial < 5; ++trial) {
+    const ArticulatedBody near = randomTree(rng, 7, false);
+    std::vector<TreeJoint> joints = near.joints();
+    for (TreeJoint& j : joints)
+      if (j.parent == 0)
+        j.M_PJ = cga::Motor::translator(Vector3d(1e4, -2e4, 5e3), kLambda) * j.M_PJ;
+    const ArticulatedBody far(std::nullopt, joints, kLambda);
+    const VectorXd q = VectorXd::Random(7) * 3.0;
+    TreeKinematics kin;
+    Eigen::MatrixXd M_near, M_far;
+    MidpointResidual a, b;
+    a.prepare(near);
+    a.endPose(q, kin);
+    a.massMatrix(M_near);
+    b.prepare(far);
+    b.endPose(q, kin);
+    b.massMatrix(M_far);
+    // The same tree, moved: the same matrix up to the round-off of the joint frames' translation
+    // (an ulp of 2e4 m, ≈ 4e-12 m, times O(1) lever arms and masses).
+    EXPECT_LT((M_far - M_near).cwiseAbs().maxCoeff(), 1e-10 * M_near.cwiseAbs().maxCoeff());
+  }
+}
+
 // The fused passes know gravity only: a floating base or a load on a link takes the general path.
 TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
   std::mt19937 rng(7);
