@@ -31,12 +31,17 @@ class Explicit final : public TreeIntegrator {
  public:
   explicit Explicit(bool rk4) : rk4_(rk4) {}
   const char* name() const override { return rk4_ ? "rk4" : "euler"; }
+  void reset() override { kin_at_state_ = false; }
+  const TreeKinematics* lastKinematics() const override {
+    return kin_at_state_ ? &end_kin_ : nullptr;
+  }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
     // Stages Y_i = Y + c_i h K_{i−1} (Euler: the first alone); the motor is a linear
     // combination of coefficients. Members hold every vector, so a step does not allocate.
     const int stages = rk4_ ? 4 : 1;
+    kin_at_state_ = false;
     y0_ = state;
     setVelocity(tree, y0_, nu0_);
     stage_ = y0_;
@@ -74,6 +79,16 @@ class Explicit final : public TreeIntegrator {
         state.v[k] = std::min(0.0, state.v[k]);
       }
     }
+    // The new state's kinematics, for the World to write the links' states from: from the
+    // fused path's frames for less than treeKinematics, when it applies.
+    if (!state.allFinite()) return;
+    if (MidpointResidual::applies(tree, loads)) {
+      stage_dynamics_.endPose(state.q, end_kin_);
+      stage_dynamics_.velocities(state.v, end_kin_);
+    } else {
+      treeKinematics(tree, state, end_kin_);
+    }
+    kin_at_state_ = true;
   }
 
  private:
@@ -125,6 +140,8 @@ class Explicit final : public TreeIntegrator {
   TreeKinematics kin_;
   BodyMoments f_ext_;
   MidpointResidual stage_dynamics_;
+  TreeKinematics end_kin_;  // of the state the last step produced, when kin_at_state_
+  bool kin_at_state_ = false;
   bool general_sized_ = false;  // the general path has run once (its scratch has its sizes)
   Eigen::VectorXd scratch_;
 };
