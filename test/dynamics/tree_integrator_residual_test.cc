@@ -154,12 +154,12 @@ TEST(MidpointResidual, AccelerationsAreAbasAndSatisfyTheRnea) {
       forwardDynamics(tree, s, kin, tau, f, qdd_ref);
       const VectorXd tau_back = inverseDynamics(tree, s, kin, qdd, f);
       // Two solves of the same system in different operation orders: they differ by round-off
-      // times the condition of M (measured here: at most 7e-14 absolute, on accelerations up
+      // times the condition of M (measured here: below 1e-13 absolute, on accelerations up
       // to O(100) for 12 joints); 1e-11 of the largest leaves room for worse-conditioned draws.
       // A wrong frame, sign or λ is off by O(1).
       const double scale = 1.0 + qdd_ref.cwiseAbs().maxCoeff();
       EXPECT_LT((qdd - qdd_ref).cwiseAbs().maxCoeff(), 1e-11 * scale) << n << " joints";
-      // The RNEA maps them back to the efforts (measured: at most 4e-14), the same margin.
+      // The RNEA maps them back to the efforts (measured: below 1e-13), the same margin.
       EXPECT_LT((tau_back - tau).cwiseAbs().maxCoeff(), 1e-11 * (1.0 + tau.cwiseAbs().maxCoeff()))
           << n << " joints";
     }
