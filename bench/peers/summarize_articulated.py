@@ -6,10 +6,13 @@ benchmark (doc/benchmarks-articulated.md), cga_rigid_sim (bench_articulated) bes
 
 Table 1, per case: every engine/config at step size h: ns per step (thread CPU and wall), the
 joint-position and joint-velocity errors at T and the energy drift.
-Table 2, per case: the joint-position error over all step sizes found, and its observed order
+Table 2, per case: the joint-position error over the peers' step sizes, and its observed order
 (least-squares slope of log err against log h over the points with 1e-12 < err < 0.1).
 Table 3, per case: the cheapest run of each engine/config (CPU time per simulated second) that
 reaches err_q <= 1e-3, 1e-6, 1e-9.
+Table 4, the target "lower error than every peer at equal cost": per case and metric (joint
+error, energy drift), how many peer points (config and h) a run of ours beats — lower error at no
+greater cost per simulated second — and the worst of those it does not.
 --plot: joint-position error at T and energy drift against the cost of one simulated second
 (ns per step / h, thread CPU unless --clock wall; ns per step alone barely changes with h, so
 it would stack each config's points on one vertical line), one column per case, gnuplot PNG
@@ -130,7 +133,9 @@ for case in cases:
     print()
 
 for case in cases:
-    hs = sorted({r["h"] for r in rows if r["case"] == case}, reverse=True)
+    # The peers' step sizes (ours may also have run at others, between them: table 4 uses those).
+    hs = sorted({r["h"] for r in rows if r["case"] == case and r["engine"] != OURS}
+                or {r["h"] for r in rows if r["case"] == case}, reverse=True)
     print("### %s: joint error at T (rad) over h, and its observed order\n" % case)
     print("| engine / config | " + " | ".join("%g" % h for h in hs) + " | order |")
     print("|---|" + "---:|" * (len(hs) + 1))
@@ -173,6 +178,64 @@ for case in cases:
         print("| %s | %s |" % (name(eng, cfg), " | ".join(cells)))
     print()
 
+# Table 4: the target "lower error than every peer at equal cost". For every peer point (case,
+# engine/config, h) and metric, our lowest error among our runs (any config, any h) that cost no
+# more per simulated second; the point is beaten when that error is lower. Errors below
+# report.PLOT_FLOOR count as the floor (two results at round-off are not told apart); a peer
+# point cheaper than every run of ours, or a blown-up one of ours, cannot beat it.
+METRICS = [("q", "joint error"), ("E", "energy drift")]
+
+
+def floored(v):
+    return max(v, report.PLOT_FLOOR)
+
+
+print("### Target: our error lower than every peer's at equal cost\n")
+print("For every peer point (case, config, h: its error and its %s time per simulated second), our "
+      "lowest error among our runs that cost no more; the point is beaten when that error is lower "
+      "(errors below %g count as %g)." % ("thread-CPU" if args.clock == "cpu" else "wall",
+                                            report.PLOT_FLOOR, report.PLOT_FLOOR))
+print()
+print("| case / metric | target | peer points beaten | not beaten (ratio of errors, ours / peer's: the worst few) |")
+print("|---|---|---:|---|")
+for case in cases:
+    ours = [r for r in rows if r["case"] == case and r["engine"] == OURS and not r["blew"]
+            and math.isfinite(cost(r))]
+    peers = [r for r in rows if r["case"] == case and r["engine"] != OURS and not r["blew"]
+             and math.isfinite(cost(r))]
+    if not ours or not peers:
+        continue
+    for metric, label in METRICS:
+        points = [r for r in peers if math.isfinite(r[metric])]
+        lost = []
+        for p in points:
+            budget = cost(p) / p["h"]
+            fits = [r for r in ours if cost(r) / r["h"] <= budget and math.isfinite(r[metric])]
+            best = min(fits, key=lambda r: floored(r[metric])) if fits else None
+            if best is None or not floored(best[metric]) < floored(p[metric]):
+                lost.append((p, best))
+
+        def badness(item):
+            p, best = item
+            return float("inf") if best is None else floored(best[metric]) / floored(p[metric])
+
+        lost.sort(key=badness, reverse=True)
+        notes = []
+        for p, best in lost[:4]:
+            where = "%s %s h=%g: %s at %.3g ms/s" % (p["engine"], p["config"], p["h"], fmt(p[metric]),
+                                                     cost(p) / p["h"] * 1e-6)
+            if best is None:
+                notes.append(where + "; no run of ours as cheap")
+            else:
+                notes.append(where + "; ours %s (%s h=%g, %.3g ms/s), ×%.3g" % (
+                    fmt(best[metric]), best["config"], best["h"], cost(best) / best["h"] * 1e-6,
+                    badness((p, best))))
+        if len(lost) > 4:
+            notes.append("…")
+        print("| %s %s | %s | %d of %d | %s |" % (case, label, "met" if not lost else "missed",
+                                                  len(points) - len(lost), len(points), "<br>".join(notes)))
+print()
+
 if args.plot:
     if not report.gnuplot_available():
         sys.exit("summarize_articulated.py: gnuplot not found: no diagram")
@@ -180,7 +243,7 @@ if args.plot:
     clock = "thread-CPU" if args.clock == "cpu" else "wall"
     ncol = len(cases) + 1
     script = report.plot_header(args.plot, "", "", "", 640 * len(cases) + 420, 1000)
-    script += ('set multiplot layout 2,%d title "Articulated cases: error against cost (one point per h = 1e-2 ... 1e-5 s) '
+    script += ('set multiplot layout 2,%d title "Articulated cases: error against cost (one point per h) '
                '(errors < 1e-16 plotted at 1e-16; blown-up runs not plotted)" noenhanced\n' % ncol)
     script += "unset key\n"
     panels = []

@@ -1,11 +1,13 @@
 // The baselines for trees: classical RK4 and explicit Euler on (M_W0, Ω_0, q, q̇) with the
-// accelerations of ABA (tree_integrator.h). Damping and friction enter as explicit forces
+// accelerations of forward dynamics (tree_integrator.h): for a fixed base under gravity alone
+// MidpointResidual::accelerations (CRBA, RNEA bias, Cholesky on scalar frames), else ABA. Damping and friction enter as explicit forces
 // (friction −F sign q̇, so it chatters about zero: a baseline); limits by projection after the
 // step (position clamped, the rate into the limit removed).
 #include <algorithm>
 #include <array>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "tree_integrator_residual.h"
 #include "tree_integrators.h"
 #include "tree_math.h"
 
@@ -30,12 +32,17 @@ class Explicit final : public TreeIntegrator {
  public:
   explicit Explicit(bool rk4) : rk4_(rk4) {}
   const char* name() const override { return rk4_ ? "rk4" : "euler"; }
+  void reset() override { kin_at_state_ = false; }
+  const TreeKinematics* lastKinematics() const override {
+    return kin_at_state_ ? &end_kin_ : nullptr;
+  }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
     // Stages Y_i = Y + c_i h K_{i−1} (Euler: the first alone); the motor is a linear
     // combination of coefficients. Members hold every vector, so a step does not allocate.
     const int stages = rk4_ ? 4 : 1;
+    kin_at_state_ = false;
     y0_ = state;
     setVelocity(tree, y0_, nu0_);
     stage_ = y0_;
@@ -51,15 +58,21 @@ class Explicit final : public TreeIntegrator {
       km_[i] = motorRate(stage_.M_W0, stage_.omega_0);
       acceleration(tree, loads, stage_, ka_[i]);
     }
+    // The weighted sums of the stages first, then one addition to the state: a position or
+    // rate rounded once per step instead of once per stage (over 1e5 steps those roundings,
+    // correlated from step to step, would add up to ~1e-12).
     const double w[4] = {rk4_ ? 1.0 / 6 : 1.0, 2.0 / 6, 2.0 / 6, 1.0 / 6};
     Coeffs dM{};
-    state.q = y0_.q;
-    nu_ = nu0_;
-    for (int i = 0; i < stages; ++i) {
-      state.q += (w[i] * h) * kq_[i];
-      nu_ += (w[i] * h) * ka_[i];
+    dq_ = w[0] * kq_[0];
+    dnu_ = w[0] * ka_[0];
+    for (int j = 0; j < 8; ++j) dM[j] = w[0] * km_[0][j];
+    for (int i = 1; i < stages; ++i) {
+      dq_ += w[i] * kq_[i];
+      dnu_ += w[i] * ka_[i];
       for (int j = 0; j < 8; ++j) dM[j] += w[i] * km_[i][j];
     }
+    state.q = y0_.q + h * dq_;
+    nu_ = nu0_ + h * dnu_;
     state.M_W0 = axpy(y0_.M_W0, h, dM);
     setVelocityVector(tree, nu_, state);
     if (tree.floating()) state.M_W0 = state.M_W0.normalized();
@@ -73,6 +86,16 @@ class Explicit final : public TreeIntegrator {
         state.v[k] = std::min(0.0, state.v[k]);
       }
     }
+    // The new state's kinematics, for the World to write the links' states from: from the
+    // fused path's frames for less than treeKinematics, when it applies.
+    if (!state.allFinite()) return;
+    if (MidpointResidual::applies(tree, loads)) {
+      stage_dynamics_.endPose(state.q, end_kin_);
+      stage_dynamics_.velocities(state.v, end_kin_);
+    } else {
+      treeKinematics(tree, state, end_kin_);
+    }
+    kin_at_state_ = true;
   }
 
  private:
@@ -88,10 +111,10 @@ class Explicit final : public TreeIntegrator {
     nu.tail(tree.jointCount()) = s.v;
   }
 
+  // A fixed base under gravity alone (the common case) takes MidpointResidual's stage (frames
+  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics.
   void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
                     Eigen::VectorXd& out) {
-    treeKinematics(tree, s, kin_);
-    externalMoments(tree, kin_, loads, f_ext_);
     Eigen::VectorXd& tau = tau_;
     tau = loads.effort;
     for (int k = 0; k < tree.jointCount(); ++k) {
@@ -99,15 +122,35 @@ class Explicit final : public TreeIntegrator {
       tau[k] -= j.damping * s.v[k];
       if (s.v[k] != 0.0) tau[k] -= (s.v[k] > 0 ? j.friction : -j.friction);
     }
+    if (MidpointResidual::applies(tree, loads)) {
+      stage_dynamics_.prepare(tree);
+      stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
+      if (general_sized_) return;
+      // The general path's scratch is sized now, so that a later step with a load on a link
+      // (which takes it) does not allocate: its accelerations here are discarded.
+      general_sized_ = true;
+      treeKinematics(tree, s, kin_);
+      externalMoments(tree, kin_, loads, f_ext_);
+      forwardDynamics(tree, s, kin_, tau, f_ext_, scratch_);
+      return;
+    }
+    general_sized_ = true;
+    treeKinematics(tree, s, kin_);
+    externalMoments(tree, kin_, loads, f_ext_);
     forwardDynamics(tree, s, kin_, tau, f_ext_, out);
   }
 
   bool rk4_;
   TreeState y0_, stage_;
-  Eigen::VectorXd nu0_, nu_, tau_, ka_[4], kq_[4];
+  Eigen::VectorXd nu0_, nu_, tau_, ka_[4], kq_[4], dq_, dnu_;
   Coeffs km_[4];
   TreeKinematics kin_;
   BodyMoments f_ext_;
+  MidpointResidual stage_dynamics_;
+  TreeKinematics end_kin_;  // of the state the last step produced, when kin_at_state_
+  bool kin_at_state_ = false;
+  bool general_sized_ = false;  // the general path has run once (its scratch has its sizes)
+  Eigen::VectorXd scratch_;
 };
 
 }  // namespace

@@ -127,6 +127,73 @@ TEST(MidpointResidual, EndPoseIsTreePoses) {
   }
 }
 
+// The explicit integrators' stage (CRBA, RNEA bias, Cholesky on the Rodrigues frames) gives
+// ABA's accelerations (forwardDynamics with gravityMoments) to round-off, and they satisfy the
+// RNEA: inverseDynamics(q̈) returns the efforts. Positions of either branch of the half-angle
+// sine and cosine (|½q| beyond π/2 too), rates that make the velocity-product terms O(1).
+TEST(MidpointResidual, AccelerationsAreAbasAndSatisfyTheRnea) {
+  std::mt19937 rng(2028);
+  const Vector3d g(0.3, -1.1, -9.81);
+  for (const int n : {1, 2, 7, 12}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      const ArticulatedBody tree = randomTree(rng, n, false);
+      TreeState s;
+      s.q = VectorXd::Random(n) * 4.0;
+      s.v = VectorXd::Random(n) * 3.0;
+      const VectorXd tau = VectorXd::Random(n) * 5.0;
+      MidpointResidual residual;
+      residual.prepare(tree);
+      VectorXd qdd;
+      residual.accelerations(s.q, s.v, g, tau, qdd);
+
+      TreeKinematics kin;
+      treeKinematics(tree, s, kin);
+      BodyMoments f;
+      gravityMoments(tree, kin, g, f);
+      VectorXd qdd_ref;
+      forwardDynamics(tree, s, kin, tau, f, qdd_ref);
+      const VectorXd tau_back = inverseDynamics(tree, s, kin, qdd, f);
+      // Two solves of the same system in different operation orders: they differ by round-off
+      // times the condition of M (measured here: below 1e-13 absolute, on accelerations up
+      // to O(100) for 12 joints); 1e-11 of the largest leaves room for worse-conditioned draws.
+      // A wrong frame, sign or λ is off by O(1).
+      const double scale = 1.0 + qdd_ref.cwiseAbs().maxCoeff();
+      EXPECT_LT((qdd - qdd_ref).cwiseAbs().maxCoeff(), 1e-11 * scale) << n << " joints";
+      // The RNEA maps them back to the efforts (measured: below 1e-13), the same margin.
+      EXPECT_LT((tau_back - tau).cwiseAbs().maxCoeff(), 1e-11 * (1.0 + tau.cwiseAbs().maxCoeff()))
+          << n << " joints";
+    }
+  }
+}
+
+// The mass matrix is assembled in each base subtree's root frame, not the world's: a tree mounted
+// 10 km from the origin keeps the digits of one at the origin (in the world's frame, m t² ≈ 1e8
+// per link would leave about 1e-8 of an O(1) entry).
+TEST(MidpointResidual, MassMatrixOfATreeFarFromTheOriginKeepsItsDigits) {
+  std::mt19937 rng(2029);
+  for (int trial = 0; trial < 5; ++trial) {
+    const ArticulatedBody near = randomTree(rng, 7, false);
+    std::vector<TreeJoint> joints = near.joints();
+    for (TreeJoint& j : joints)
+      if (j.parent == 0)
+        j.M_PJ = cga::Motor::translator(Vector3d(1e4, -2e4, 5e3), kLambda) * j.M_PJ;
+    const ArticulatedBody far(std::nullopt, joints, kLambda);
+    const VectorXd q = VectorXd::Random(7) * 3.0;
+    TreeKinematics kin;
+    Eigen::MatrixXd M_near, M_far;
+    MidpointResidual a, b;
+    a.prepare(near);
+    a.endPose(q, kin);
+    a.massMatrix(M_near);
+    b.prepare(far);
+    b.endPose(q, kin);
+    b.massMatrix(M_far);
+    // The same tree, moved: the same matrix up to the round-off of the joint frames' translation
+    // (an ulp of 2e4 m, ≈ 4e-12 m, times O(1) lever arms and masses).
+    EXPECT_LT((M_far - M_near).cwiseAbs().maxCoeff(), 1e-10 * M_near.cwiseAbs().maxCoeff());
+  }
+}
+
 // The fused passes know gravity only: a floating base or a load on a link takes the general path.
 TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
   std::mt19937 rng(7);

@@ -11,9 +11,11 @@
 //               in zero gravity. Damping is implicit (stable at any h); friction and limits are
 //               solved with the step (doc/articulated.md#limits-and-friction).
 //   cga4        the midpoint composed as Yoshida's triple jump: fourth order, same invariants.
-//   rk4         classical Runge–Kutta on (M_W0, Ω_0, q, q̇) with ABA: the baseline (damping and
-//               friction explicit, limits by projection after the step).
-//   euler       explicit Euler with ABA, the crudest baseline.
+//   rk4         classical Runge–Kutta on (M_W0, Ω_0, q, q̇) with the accelerations of forward
+//               dynamics (a fixed base under gravity: CRBA, RNEA bias and Cholesky on scalar
+//               frames; otherwise ABA): the baseline (damping and friction explicit, limits by
+//               projection after the step).
+//   euler       explicit Euler with the same accelerations, the crudest baseline.
 //   exact       refused for trees: a tree has no closed-form flow.
 // An integrator object belongs to one tree; it caches the momenta of the state it produced and
 // recomputes them when the state was changed from outside (reset() drops the cache).
