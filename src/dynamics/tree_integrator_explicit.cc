@@ -1,8 +1,9 @@
 // The baselines for trees: classical RK4 and explicit Euler on (M_W0, Ω_0, q, q̇) with the
 // accelerations of forward dynamics (tree_integrator.h): for a fixed base under gravity alone
-// MidpointResidual::accelerations (CRBA, RNEA bias, Cholesky on scalar frames), else ABA. Damping and friction enter as explicit forces
-// (friction −F sign q̇, so it chatters about zero: a baseline); limits by projection after the
-// step (position clamped, the rate into the limit removed).
+// MidpointResidual::accelerations (CRBA, RNEA bias, Cholesky on scalar frames), else ABA.
+// Damping and friction enter as explicit forces (friction −F sign q̇, so it chatters about zero:
+// a baseline); limits by projection after the step (position clamped, the rate into the limit
+// removed).
 #include <algorithm>
 #include <array>
 
