@@ -260,8 +260,11 @@ void setTargets(const SolverSettings& st, const SolverWork& work,
 }
 
 // Friction: the impulse that stops the sliding at relative velocity u, projected onto the
-// cone's disc; updates λ_t and returns its change.
-inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u) {
+// cone's disc; updates λ_t and returns its change. `relax` > 1 over-relaxes the step (then
+// projects onto the disc again): λ_t + relax (λ_t' − λ_t). It has the same fixed points (where
+// the step is zero, so is the relaxed one; on the rim a relaxed step that projects back onto
+// λ_t would need a step pointing out of the disc, which a projected λ_t' cannot have).
+inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u, double relax = 1.0) {
   const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
   const double tmax = c.mu * c.lambda_n;
   Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
@@ -270,10 +273,23 @@ inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u) {
     const double t = lt.norm();
     if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
   }
+  if (relax != 1.0) {
+    lt = c.lambda_t + relax * (lt - c.lambda_t);
+    const double t = lt.norm();
+    if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
+  }
   const Eigen::Vector2d dt = lt - c.lambda_t;
   c.lambda_t = lt;
   return dt;
 }
+
+// The over-relaxation of the friction at a face's corners (successive over-relaxation): each
+// corner's friction step tilts the box and changes its neighbours' slip, and plain Gauss–Seidel
+// (1) converges slowly on the columns of a landed pile (their change per sweep falls by ~0.5 %
+// a sweep). 1.5 settles the 1000-box pile ~0.1 s sooner and makes its landing ~20 % cheaper
+// (1.3: about the same; 1.7 and 1.9: dearer). Single contacts keep the exact step: a rolling
+// ball's one contact converges in one sweep, and a relaxed step would only make it oscillate.
+constexpr double kFaceFrictionRelaxation = 1.5;
 
 // One sweep over a block of a face's corners: their normal impulses together (the block's
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
@@ -301,7 +317,8 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
   }
   for (int i = 0; i < g.size; ++i) {
     ContactRow& c = rows[g.first + i];
-    const Eigen::Vector2d dt = frictionStep(c, relativeVelocity(work.vel, a, b, c));
+    const Eigen::Vector2d dt =
+        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
     if (dt.x() != 0.0 || dt.y() != 0.0)
       applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                dt.x() * c.t1 + dt.y() * c.t2);
