@@ -30,8 +30,10 @@ class CollisionCache {
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
   };
+  /// A shape's bounding sphere in the sweep: its extent along x, and its centre's y and z and
+  /// its radius, so that the sweep rejects a pair from these alone (contiguous in memory).
   struct Interval {
-    double lo, hi;
+    double lo, hi, y, z, bound;
     int shape;
     bool awake;  ///< a moving body that does not sleep (else static or asleep: inert)
   };
@@ -306,8 +308,10 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
   // sleeping pile costs the sort, not its pairs. The pairs come in the same order either way.
   cache.sweep.clear();
   for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
-    const double x = cache.pose_W[s].translation().x(), r = cache.shapes[s].bound;
-    cache.sweep.push_back({x - r, x + r, static_cast<int>(s), !sleeps(cache.shapes[s].body)});
+    const Eigen::Vector3d c = cache.pose_W[s].translation();
+    const double r = cache.shapes[s].bound;
+    cache.sweep.push_back({c.x() - r, c.x() + r, c.y(), c.z(), r, static_cast<int>(s),
+                           !sleeps(cache.shapes[s].body)});
   }
   std::sort(cache.sweep.begin(), cache.sweep.end(),
             [](const CollisionCache::Interval& a, const CollisionCache::Interval& b) {
@@ -318,7 +322,11 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
     if (cache.sweep[p].awake) cache.awake_at.push_back(static_cast<int>(p));
   if (cache.awake_at.empty()) return;
   const auto test = [&](std::size_t p, std::size_t q) {
-    const int s1 = cache.sweep[p].shape, s2 = cache.sweep[q].shape;
+    const CollisionCache::Interval& I = cache.sweep[p];
+    const CollisionCache::Interval& J = cache.sweep[q];
+    const double reach = I.bound + J.bound;
+    if (std::abs(J.y - I.y) > reach || std::abs(J.z - I.z) > reach) return;
+    const int s1 = I.shape, s2 = J.shape;
     const CollisionCache::Shape& A = cache.shapes[s1];
     const CollisionCache::Shape& B = cache.shapes[s2];
     if (A.body == B.body) return;
