@@ -321,12 +321,13 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
   for (std::size_t p = 0; p < cache.sweep.size(); ++p)
     if (cache.sweep[p].awake) cache.awake_at.push_back(static_cast<int>(p));
   if (cache.awake_at.empty()) return;
-  const auto test = [&](std::size_t p, std::size_t q) {
-    const CollisionCache::Interval& I = cache.sweep[p];
-    const CollisionCache::Interval& J = cache.sweep[q];
+  // Whether the bounding spheres' boxes overlap in y and z (x: the sweep's own test).
+  const auto near = [&](const CollisionCache::Interval& I, const CollisionCache::Interval& J) {
     const double reach = I.bound + J.bound;
-    if (std::abs(J.y - I.y) > reach || std::abs(J.z - I.z) > reach) return;
-    const int s1 = I.shape, s2 = J.shape;
+    return std::abs(J.y - I.y) <= reach && std::abs(J.z - I.z) <= reach;
+  };
+  const auto test = [&](std::size_t p, std::size_t q) {
+    const int s1 = cache.sweep[p].shape, s2 = cache.sweep[q].shape;
     const CollisionCache::Shape& A = cache.shapes[s1];
     const CollisionCache::Shape& B = cache.shapes[s2];
     if (A.body == B.body) return;
@@ -350,13 +351,13 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
     const double hi = cache.sweep[p].hi;
     if (cache.sweep[p].awake) {
       for (std::size_t q = p + 1; q < cache.sweep.size() && cache.sweep[q].lo <= hi; ++q)
-        test(p, q);
+        if (near(cache.sweep[p], cache.sweep[q])) test(p, q);
       continue;
     }
     for (auto it =
              std::upper_bound(cache.awake_at.begin(), cache.awake_at.end(), static_cast<int>(p));
          it != cache.awake_at.end() && cache.sweep[*it].lo <= hi; ++it)
-      test(p, static_cast<std::size_t>(*it));
+      if (near(cache.sweep[p], cache.sweep[*it])) test(p, static_cast<std::size_t>(*it));
   }
 }
 
