@@ -30,9 +30,12 @@ class CollisionCache {
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
   };
+  /// A shape's bounding sphere in the sweep: its extent along x, and its centre's y and z and
+  /// its radius, so that the sweep rejects a pair from these alone (contiguous in memory).
   struct Interval {
-    double lo, hi;
+    double lo, hi, y, z, bound;
     int shape;
+    bool awake;  ///< a moving body that does not sleep (else static or asleep: inert)
   };
 
   bool built = false;
@@ -44,6 +47,7 @@ class CollisionCache {
   // Scratch, reused every step.
   std::vector<Eigen::Isometry3d> pose_W;  ///< per shape, M_WS at the step's start
   std::vector<Interval> sweep;
+  std::vector<int> awake_at;  ///< the positions in `sweep` of the awake shapes, ascending
   std::vector<fcl::Contactd> fcl_contacts;
 };
 
@@ -298,43 +302,62 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
     planeContacts(model, data, cache, 0, cache.shapes.size(), -1, out, asleep);
 
   // Broad phase: intervals of the bounding spheres along x, sorted; a pair is tested when its
-  // intervals and its y and z extents overlap.
+  // intervals and its y and z extents overlap. Two inert shapes (static or asleep) are never
+  // tested, so an inert shape looks only at the awake shapes after it in the sweep (found by
+  // bisection in their positions) rather than at every shape its interval overlaps: a
+  // sleeping pile costs the sort, not its pairs. The pairs come in the same order either way.
   cache.sweep.clear();
   for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
-    const double x = cache.pose_W[s].translation().x(), r = cache.shapes[s].bound;
-    cache.sweep.push_back({x - r, x + r, static_cast<int>(s)});
+    const Eigen::Vector3d c = cache.pose_W[s].translation();
+    const double r = cache.shapes[s].bound;
+    cache.sweep.push_back({c.x() - r, c.x() + r, c.y(), c.z(), r, static_cast<int>(s),
+                           !sleeps(cache.shapes[s].body)});
   }
   std::sort(cache.sweep.begin(), cache.sweep.end(),
             [](const CollisionCache::Interval& a, const CollisionCache::Interval& b) {
               return a.lo < b.lo || (a.lo == b.lo && a.shape < b.shape);
             });
-  for (std::size_t p = 0; p < cache.sweep.size(); ++p) {
-    const int s1 = cache.sweep[p].shape;
+  cache.awake_at.clear();
+  for (std::size_t p = 0; p < cache.sweep.size(); ++p)
+    if (cache.sweep[p].awake) cache.awake_at.push_back(static_cast<int>(p));
+  if (cache.awake_at.empty()) return;
+  // Whether the bounding spheres' boxes overlap in y and z (x: the sweep's own test).
+  const auto near = [&](const CollisionCache::Interval& I, const CollisionCache::Interval& J) {
+    const double reach = I.bound + J.bound;
+    return std::abs(J.y - I.y) <= reach && std::abs(J.z - I.z) <= reach;
+  };
+  const auto test = [&](std::size_t p, std::size_t q) {
+    const int s1 = cache.sweep[p].shape, s2 = cache.sweep[q].shape;
     const CollisionCache::Shape& A = cache.shapes[s1];
+    const CollisionCache::Shape& B = cache.shapes[s2];
+    if (A.body == B.body) return;
     const bool a_moving = model.moving_of_body[A.body] >= 0;
-    const Eigen::Vector3d ca = cache.pose_W[s1].translation();
-    for (std::size_t q = p + 1; q < cache.sweep.size() && cache.sweep[q].lo <= cache.sweep[p].hi;
-         ++q) {
-      const int s2 = cache.sweep[q].shape;
-      const CollisionCache::Shape& B = cache.shapes[s2];
-      if (A.body == B.body) continue;
-      const bool b_moving = model.moving_of_body[B.body] >= 0;
-      if (!a_moving && !b_moving) continue;
-      if (sleeps(A.body) && sleeps(B.body)) continue;
-      if (!cache.joined.empty() &&
-          std::binary_search(cache.joined.begin(), cache.joined.end(),
-                             std::make_pair(std::min(A.body, B.body), std::max(A.body, B.body))))
-        continue;
-      const Eigen::Vector3d d = cache.pose_W[s2].translation() - ca;
-      const double r = A.bound + B.bound;
-      if (std::abs(d.y()) > r || std::abs(d.z()) > r || d.squaredNorm() > r * r) continue;
-      // Body a is moving; of two moving bodies, the one that comes first in the scene.
-      const bool a_first = a_moving && (!b_moving || A.body < B.body);
-      if (a_first)
-        pairContacts(model, cache, s1, s2, out);
-      else
-        pairContacts(model, cache, s2, s1, out);
+    const bool b_moving = model.moving_of_body[B.body] >= 0;
+    if (!cache.joined.empty() &&
+        std::binary_search(cache.joined.begin(), cache.joined.end(),
+                           std::make_pair(std::min(A.body, B.body), std::max(A.body, B.body))))
+      return;
+    const Eigen::Vector3d d = cache.pose_W[s2].translation() - cache.pose_W[s1].translation();
+    const double r = A.bound + B.bound;
+    if (std::abs(d.y()) > r || std::abs(d.z()) > r || d.squaredNorm() > r * r) return;
+    // Body a is moving; of two moving bodies, the one that comes first in the scene.
+    const bool a_first = a_moving && (!b_moving || A.body < B.body);
+    if (a_first)
+      pairContacts(model, cache, s1, s2, out);
+    else
+      pairContacts(model, cache, s2, s1, out);
+  };
+  for (std::size_t p = 0; p < cache.sweep.size(); ++p) {
+    const double hi = cache.sweep[p].hi;
+    if (cache.sweep[p].awake) {
+      for (std::size_t q = p + 1; q < cache.sweep.size() && cache.sweep[q].lo <= hi; ++q)
+        if (near(cache.sweep[p], cache.sweep[q])) test(p, q);
+      continue;
     }
+    for (auto it =
+             std::upper_bound(cache.awake_at.begin(), cache.awake_at.end(), static_cast<int>(p));
+         it != cache.awake_at.end() && cache.sweep[*it].lo <= hi; ++it)
+      if (near(cache.sweep[p], cache.sweep[*it])) test(p, static_cast<std::size_t>(*it));
   }
 }
 

@@ -60,6 +60,21 @@ __attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Resp
   w[2] += I(2, 0) * cx + I(2, 1) * cy + I(2, 2) * cz;
 }
 
+// v += m⁻¹ P, w += I⁻¹ M: an impulse P with moment M about the centre of mass.
+__attribute__((always_inline)) inline void kickNet(Twist& t, const SolverWork::Response& resp,
+                                                   const Eigen::Vector3d& P,
+                                                   const Eigen::Vector3d& M) {
+  const Eigen::Matrix3d& I = resp.inv_inertia;
+  double* v = t.v.data();
+  double* w = t.w.data();
+  v[0] += resp.inv_mass * P.x();
+  v[1] += resp.inv_mass * P.y();
+  v[2] += resp.inv_mass * P.z();
+  w[0] += I(0, 0) * M.x() + I(0, 1) * M.y() + I(0, 2) * M.z();
+  w[1] += I(1, 0) * M.x() + I(1, 1) * M.y() + I(1, 2) * M.z();
+  w[2] += I(2, 0) * M.x() + I(2, 1) * M.y() + I(2, 2) * M.z();
+}
+
 // The impulse P (world axes) at the contact, +P on a and −P on b, added to `vel` (the
 // velocities or, for the position correction, the pseudo-velocities); a tree side's to its ν
 // or pν.
@@ -260,8 +275,13 @@ void setTargets(const SolverSettings& st, const SolverWork& work,
 }
 
 // Friction: the impulse that stops the sliding at relative velocity u, projected onto the
-// cone's disc; updates λ_t and returns its change.
-inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u) {
+// cone's disc; updates λ_t and returns its change. `relax` > 1 over-relaxes the step (then
+// projects onto the disc again): λ_t + relax (λ_t' − λ_t). It has the same fixed points (where
+// the step is zero, so is the relaxed one; on the rim a relaxed step that projects back onto
+// λ_t would need a step pointing out of the disc, which a projected λ_t' cannot have).
+__attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c,
+                                                                   const Eigen::Vector3d& u,
+                                                                   double relax = 1.0) {
   const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
   const double tmax = c.mu * c.lambda_n;
   Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
@@ -270,10 +290,23 @@ inline Eigen::Vector2d frictionStep(ContactRow& c, const Eigen::Vector3d& u) {
     const double t = lt.norm();
     if (t > tmax) lt *= t > 0 ? tmax / t : 0.0;
   }
+  if (relax != 1.0) {
+    lt = c.lambda_t + relax * (lt - c.lambda_t);
+    const double t2 = lt.squaredNorm();
+    if (t2 > tmax * tmax) lt *= tmax > 0 ? tmax / std::sqrt(t2) : 0.0;
+  }
   const Eigen::Vector2d dt = lt - c.lambda_t;
   c.lambda_t = lt;
   return dt;
 }
+
+// The over-relaxation of the friction at a face's corners (successive over-relaxation): each
+// corner's friction step tilts the box and changes its neighbours' slip, and plain Gauss–Seidel
+// (1) converges slowly on the columns of a landed pile (their change per sweep falls by ~0.5 %
+// a sweep). 1.5 settles the 1000-box pile ~0.1 s sooner and makes its landing ~20 % cheaper
+// (1.3: about the same; 1.7 and 1.9: dearer). Single contacts keep the exact step: a rolling
+// ball's one contact converges in one sweep, and a relaxed step would only make it oscillate.
+constexpr double kFaceFrictionRelaxation = 1.5;
 
 // One sweep over a block of a face's corners: their normal impulses together (the block's
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
@@ -289,19 +322,31 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
   const Eigen::Vector4d d = g.pinv * r;
   bool feasible = true;
   for (int i = 0; i < g.size; ++i) feasible = feasible && rows[g.first + i].lambda_n + d(i) >= 0;
-  for (int i = 0; i < g.size; ++i) {
-    ContactRow& c = rows[g.first + i];
-    double dn = d(i);
-    if (!feasible) {  // Gauss–Seidel within the block
-      const double u_n = c.n.dot(relativeVelocity(work.vel, a, b, c));
-      dn = std::max(0.0, c.lambda_n + (c.target - u_n) * c.inv_k_nn) - c.lambda_n;
+  if (feasible) {  // all at once: one kick per side with the block's net impulse and moment
+    Eigen::Vector3d P = Eigen::Vector3d::Zero(), Ma = P, Mb = P;
+    for (int i = 0; i < g.size; ++i) {
+      ContactRow& c = rows[g.first + i];
+      c.lambda_n += d(i);
+      const Eigen::Vector3d Pi = d(i) * c.n;
+      P += Pi;
+      Ma += c.ra.cross(Pi);
+      Mb += c.rb.cross(Pi);
     }
+    kickNet(work.vel[a], work.response[a], P, Ma);
+    kickNet(work.vel[b], work.response[b], -P, -Mb);
+  }
+  for (int i = 0; i < g.size && !feasible; ++i) {
+    ContactRow& c = rows[g.first + i];
+    // Gauss–Seidel within the block.
+    const double u_n = c.n.dot(relativeVelocity(work.vel, a, b, c));
+    const double dn = std::max(0.0, c.lambda_n + (c.target - u_n) * c.inv_k_nn) - c.lambda_n;
     c.lambda_n += dn;
     if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
   }
   for (int i = 0; i < g.size; ++i) {
     ContactRow& c = rows[g.first + i];
-    const Eigen::Vector2d dt = frictionStep(c, relativeVelocity(work.vel, a, b, c));
+    const Eigen::Vector2d dt =
+        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
     if (dt.x() != 0.0 || dt.y() != 0.0)
       applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                dt.x() * c.t1 + dt.y() * c.t2);

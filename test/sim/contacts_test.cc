@@ -365,6 +365,41 @@ TEST(Contacts, SleepingIslandWakesOnAnImpulseAndSleepingCanBeTurnedOff) {
   }
 }
 
+// Truth: the broad phase tests a sleeping body against the awake bodies on either side of it
+// along the sweep axis (x) and never against other sleepers. Two boxes and two balls, each
+// alone on the ground, all asleep after 1 s; an impulse then sends the left ball (+x, it comes
+// before its box in the sweep) and the right ball (−x, after its box) at 2 m/s into their
+// boxes, 0.3 m away. Both boxes are hit, so both must wake and be pushed away from their ball
+// (by more than 1 mm: a 1 kg ball at ≥ 1 m/s against a 1 kg box), and no ball may pass into
+// its box (its centre stays a radius from the face, within the 50 µm slop and a step's travel).
+TEST(Contacts, SleepersAreFoundByAwakeBodiesOnEitherSideOfTheSweep) {
+  auto w = contactWorld(
+      makeScene({block("box_l", 1.0, {0.2, 0.2, 0.2}, {-1.0, 0, 0.1}),
+                 block("box_r", 1.0, {0.2, 0.2, 0.2}, {1.0, 0, 0.1}),
+                 ball("ball_l", 1.0, 0.1, {-1.5, 0, 0.1}), ball("ball_r", 1.0, 0.1, {1.5, 0, 0.1})},
+                {0, 0, -kG}),
+      0.5, 0.0);
+  w->step(1000);
+  ASSERT_EQ(w->data().contact_sweeps, 0);  // all asleep
+  for (const auto& [name, dir] :
+       {std::pair<std::string, double>{"ball_l", 1.0}, {"ball_r", -1.0}}) {
+    sim::ImpulseInput imp;
+    imp.body = name;
+    imp.J = cga::Force(Eigen::Vector3d(2.0 * dir, 0, 0), 0.0);
+    imp.point = stateNamed(*w, name).com;
+    ASSERT_TRUE(imp.point.allFinite());
+    ASSERT_TRUE(w->applyImpulse(imp).ok());
+  }
+  const double l0 = stateNamed(*w, "box_l").com.x(), r0 = stateNamed(*w, "box_r").com.x();
+  for (int s = 0; s < 500; ++s) {
+    w->step();
+    EXPECT_LT(stateNamed(*w, "ball_l").com.x(), stateNamed(*w, "box_l").com.x() - 0.2 + 3e-3);
+    EXPECT_GT(stateNamed(*w, "ball_r").com.x(), stateNamed(*w, "box_r").com.x() + 0.2 - 3e-3);
+  }
+  EXPECT_GT(stateNamed(*w, "box_l").com.x() - l0, 1e-3);
+  EXPECT_LT(stateNamed(*w, "box_r").com.x() - r0, -1e-3);
+}
+
 // Truth: an awake body touching a sleeping one wakes it: a ball dropped onto a box asleep on
 // the ground pushes it into the ground and off centre, so the box moves (it tilts or slides:
 // its velocity is not zero in the steps after the impact), and the ball does not pass through
