@@ -52,6 +52,18 @@ inline double stateError(const dynamics::BodyState& s, const dynamics::BodyState
          (dynamics::comVelocity_W(s, lambda) - dynamics::comVelocity_W(ref, lambda)).norm();
 }
 
+/// A force f at the material point p_B (B frame) and a couple, fixed in `axes`.
+inline dynamics::AppliedLoad appliedLoad(dynamics::Axes axes, const Eigen::Vector3d& f,
+                                         const Eigen::Vector3d& p_B = Eigen::Vector3d::Zero(),
+                                         const Eigen::Vector3d& couple = Eigen::Vector3d::Zero()) {
+  dynamics::AppliedLoad load;
+  load.axes = axes;
+  load.F = cga::Force(f);
+  load.point_B = p_B;
+  load.couple = couple;
+  return load;
+}
+
 /// Gravity, a world-fixed couple and a body-fixed force off the centre of mass.
 inline dynamics::Loads mixedLoads() {
   dynamics::Loads loads;

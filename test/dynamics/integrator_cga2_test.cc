@@ -47,14 +47,9 @@ Loads someLoads() {
 Loads worldLoadsAtTheCentre() {
   Loads loads;
   loads.setGravity(Vector3d(0.3, -0.1, -9.81));
-  AppliedLoad push;
-  push.axes = Axes::kWorld;
-  push.F = cga::Force(Vector3d(1, -2, 0.5));
-  loads.add(push);
-  AppliedLoad couple;
-  couple.axes = Axes::kWorld;
-  couple.couple = Vector3d(0.2, -0.4, 0.1);
-  loads.add(couple);
+  loads.add(testing::appliedLoad(Axes::kWorld, Vector3d(1, -2, 0.5)));
+  loads.add(testing::appliedLoad(Axes::kWorld, Vector3d::Zero(), Vector3d::Zero(),
+                                 Vector3d(0.2, -0.4, 0.1)));
   return loads;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "common/cga_embedding.h"
+#include "common/dynamics_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -103,10 +104,8 @@ TEST(Loads, WorldSumsAtTheCentre) {
   const cga::Motor M = cga::Motor::fromPose(R, Vector3d(1, -2, 3), lambda);
   Loads loads;
   loads.setGravity(Vector3d(0, 0, -9.81));
-  AppliedLoad push;
-  push.axes = Axes::kWorld;
-  push.F = cga::Force(Vector3d(3, -1, 2));
-  push.couple = Vector3d(0.5, 0.25, -1);
+  AppliedLoad push = testing::appliedLoad(Axes::kWorld, Vector3d(3, -1, 2), Vector3d::Zero(),
+                                          Vector3d(0.5, 0.25, -1));
   loads.add(push);
   Vector3d f_W, couple_W;
   ASSERT_TRUE(loads.worldSums(m, f_W, couple_W));
