@@ -57,9 +57,8 @@ inline bool isOdd(double m) {
   return std::abs(m) < 9007199254740992.0 && (static_cast<long long>(m) & 1) != 0;
 }
 
-// The rotation by ψ about the unit axis u: (cos ψ/2, sin ψ/2 u).
-// The rotor (cos ψ/2, sin ψ/2 u) of an angle ψ ∈ [−π, π] (reduced: the half angle is within
-// sinCosReduced's range).
+// The rotation by ψ about the unit axis u, (cos ψ/2, sin ψ/2 u), for ψ ∈ [−π, π] (reduced: the
+// half angle is within sinCosReduced's range).
 inline Eigen::Quaterniond axisAngle(const Eigen::Vector3d& u, double psi) {
   double s, c;
   sinCosReduced(0.5 * psi, s, c);

@@ -339,7 +339,7 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
       return;
     const Eigen::Vector3d d = cache.pose_W[s2].translation() - cache.pose_W[s1].translation();
     const double r = A.bound + B.bound;
-    if (std::abs(d.y()) > r || std::abs(d.z()) > r || d.squaredNorm() > r * r) return;
+    if (d.squaredNorm() > r * r) return;  // (y and z: near(), checked before each call)
     // Body a is moving; of two moving bodies, the one that comes first in the scene.
     const bool a_first = a_moving && (!b_moving || A.body < B.body);
     if (a_first)

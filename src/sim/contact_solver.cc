@@ -43,23 +43,6 @@ __attribute__((always_inline)) inline Eigen::Vector3d relativeVelocity(
           va[2] - vb[2] + (wa[0] * ra[1] - wa[1] * ra[0]) - (wb[0] * rb[1] - wb[1] * rb[0])};
 }
 
-// v += s m P, w += s I⁻¹ (r × P) for one side (s = ±1).
-__attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Response& resp,
-                                                const Eigen::Vector3d& r, double px, double py,
-                                                double pz) {
-  const double* q = r.data();
-  const double cx = q[1] * pz - q[2] * py, cy = q[2] * px - q[0] * pz, cz = q[0] * py - q[1] * px;
-  const Eigen::Matrix3d& I = resp.inv_inertia;
-  double* v = t.v.data();
-  double* w = t.w.data();
-  v[0] += resp.inv_mass * px;
-  v[1] += resp.inv_mass * py;
-  v[2] += resp.inv_mass * pz;
-  w[0] += I(0, 0) * cx + I(0, 1) * cy + I(0, 2) * cz;
-  w[1] += I(1, 0) * cx + I(1, 1) * cy + I(1, 2) * cz;
-  w[2] += I(2, 0) * cx + I(2, 1) * cy + I(2, 2) * cz;
-}
-
 // v += m⁻¹ P, w += I⁻¹ M: an impulse P with moment M about the centre of mass.
 __attribute__((always_inline)) inline void kickNet(Twist& t, const SolverWork::Response& resp,
                                                    const Eigen::Vector3d& P,
@@ -73,6 +56,14 @@ __attribute__((always_inline)) inline void kickNet(Twist& t, const SolverWork::R
   w[0] += I(0, 0) * M.x() + I(0, 1) * M.y() + I(0, 2) * M.z();
   w[1] += I(1, 0) * M.x() + I(1, 1) * M.y() + I(1, 2) * M.z();
   w[2] += I(2, 0) * M.x() + I(2, 1) * M.y() + I(2, 2) * M.z();
+}
+
+// v += s m P, w += s I⁻¹ (r × P) for one side (s = ±1).
+__attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Response& resp,
+                                                const Eigen::Vector3d& r, double px, double py,
+                                                double pz) {
+  const Eigen::Vector3d P(px, py, pz);
+  kickNet(t, resp, P, r.cross(P));
 }
 
 // The impulse P (world axes) at the contact, +P on a and −P on b, added to `vel` (the
