@@ -207,14 +207,97 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
   }
 }
 
-// The largest change of a contact point's (pseudo-)velocity since vel_sweep, over the bodies.
-double bodyChange(const SolverWork& work) {
+// The islands of the groups (SolverWork::Island): union-find over the slots (0 … n−1) and the
+// trees (n + t); the dummy joins nothing. Islands are numbered by their first group, and each
+// keeps its groups in their order, so Gauss–Seidel visits an island's contacts as a sweep over
+// all of them would.
+void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& work) {
+  const int n = static_cast<int>(work.response.size()) - 1;
+  std::vector<int>& root = work.root;
+  root.resize(n + n_trees);
+  for (int x = 0; x < n + n_trees; ++x) root[x] = x;
+  const auto find = [&root](int x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  // A group's node: any of its sides (a group's rows share their bodies).
+  const auto nodes = [&](int k, int out[4]) {
+    int m = 0;
+    if (work.a[k] < n) out[m++] = work.a[k];
+    if (work.b[k] < n) out[m++] = work.b[k];
+    if (rows[k].ta >= 0) out[m++] = n + rows[k].ta;
+    if (rows[k].tb >= 0) out[m++] = n + rows[k].tb;
+    return m;
+  };
+  for (const SolverWork::Group& g : work.groups) {
+    int nd[4];
+    const int m = nodes(g.first, nd);
+    for (int i = 1; i < m; ++i) root[find(nd[i])] = find(nd[0]);
+  }
+  // Number the islands by their first group; collect groups, slots and trees per island.
+  std::vector<int>& id = work.node_island;  // per root, then per node: its island, −1 for none
+  id.assign(n + n_trees, -1);
+  std::vector<int>& island_of_group = work.group_island;
+  island_of_group.resize(work.groups.size());
+  int islands = 0;
+  for (std::size_t q = 0; q < work.groups.size(); ++q) {
+    int nd[4];
+    if (nodes(work.groups[q].first, nd) == 0) {  // nothing movable on either side: alone
+      island_of_group[q] = islands++;
+      continue;
+    }
+    int& i = id[find(nd[0])];
+    if (i < 0) i = islands++;
+    island_of_group[q] = i;
+  }
+  work.islands.assign(islands, SolverWork::Island());
+  for (const int i : island_of_group) ++work.islands[i].groups;
+  for (int x = 0; x < n + n_trees; ++x) {
+    const int i = id[find(x)];
+    if (i < 0) continue;
+    if (x < n)
+      ++work.islands[i].bodies;
+    else
+      ++work.islands[i].trees;
+  }
+  int g0 = 0, b0 = 0, t0 = 0;
+  for (SolverWork::Island& I : work.islands) {
+    I.first_group = g0;
+    I.first_body = b0;
+    I.first_tree = t0;
+    g0 += I.groups;
+    b0 += I.bodies;
+    t0 += I.trees;
+    I.groups = I.bodies = I.trees = 0;
+  }
+  work.island_group.resize(g0);
+  work.island_body.resize(b0);
+  work.island_tree.resize(t0);
+  for (std::size_t q = 0; q < work.groups.size(); ++q) {
+    SolverWork::Island& I = work.islands[island_of_group[q]];
+    work.island_group[I.first_group + I.groups++] = static_cast<int>(q);
+  }
+  for (int x = 0; x < n + n_trees; ++x) {
+    const int i = id[find(x)];
+    if (i < 0) continue;
+    SolverWork::Island& I = work.islands[i];
+    if (x < n)
+      work.island_body[I.first_body + I.bodies++] = x;
+    else
+      work.island_tree[I.first_tree + I.trees++] = x - n;
+  }
+}
+
+// The largest change of a contact point's (pseudo-)velocity since vel_sweep, over the
+// island's bodies.
+double bodyChange(const SolverWork& work, const SolverWork::Island& I) {
   double change = 0.0;
-  const std::size_t n = work.vel.size() - 1;
-  for (std::size_t s = 0; s < n; ++s)
+  for (int q = I.first_body; q < I.first_body + I.bodies; ++q) {
+    const int s = work.island_body[q];
     change =
         std::max(change, (work.vel[s].v - work.vel_sweep[s].v).norm() +
                              work.response[s].reach * (work.vel[s].w - work.vel_sweep[s].w).norm());
+  }
   return change;
 }
 
@@ -240,29 +323,26 @@ void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2
   t2 = n.cross(t1);
 }
 
-// Each row's target from the velocities before any contact impulse.
-void setTargets(const SolverSettings& st, const SolverWork& work,
-                const std::vector<SolverTree>& trees, bool bounce, std::vector<ContactRow>& rows) {
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    ContactRow& c = rows[k];
-    Eigen::Vector3d u = relativeVelocity(work.vel, work.a[k], work.b[k], c);
-    if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
-    const double u_n = c.n.dot(u);
-    const double h = st.h;
-    const double d = c.depth;
-    c.impact = 0.0;
-    // A gap may close, no more; a gap within round-off of contact is contact (targets of
-    // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
-    // chase them for ever).
-    double target = d >= -st.touching ? 0.0 : d / h;
-    // An impact: the bodies approach faster than the resting threshold and touch within the
-    // step. Newton's law sends them apart at e times the approach speed.
-    if (bounce && c.restitution > 0 && u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
-      c.impact = -u_n;
-      target = std::max(target, c.restitution * c.impact);
-    }
-    c.target = target;
+// Row k's target from the velocities before any contact impulse.
+void setTarget(const SolverSettings& st, const SolverWork& work,
+               const std::vector<SolverTree>& trees, bool bounce, std::size_t k, ContactRow& c) {
+  Eigen::Vector3d u = relativeVelocity(work.vel, work.a[k], work.b[k], c);
+  if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
+  const double u_n = c.n.dot(u);
+  const double h = st.h;
+  const double d = c.depth;
+  c.impact = 0.0;
+  // A gap may close, no more; a gap within round-off of contact is contact (targets of
+  // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
+  // chase them for ever).
+  double target = d >= -st.touching ? 0.0 : d / h;
+  // An impact: the bodies approach faster than the resting threshold and touch within the
+  // step. Newton's law sends them apart at e times the approach speed.
+  if (bounce && c.restitution > 0 && u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
+    c.impact = -u_n;
+    target = std::max(target, c.restitution * c.impact);
   }
+  c.target = target;
 }
 
 // Friction: the impulse that stops the sliding at relative velocity u, projected onto the
@@ -434,60 +514,82 @@ double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<So
   return T;
 }
 
-SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bodies,
-                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
-                           SolverWork& work) {
-  SolveStats stats;
-  load(bodies, rows, work);
-  makeGroups(rows, work);
-  const std::size_t n = bodies.size();
-  // The velocities before any contact impulse: the warm start is applied after the targets
-  // are read from them.
-  for (std::size_t s = 0; s < n; ++s) work.vel_start[s] = {bodies[s].v, bodies[s].w};
-  work.vel_start[n] = Twist();
-  std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
-  for (SolverTree& t : trees) t.nu_start = t.nu;
-  const auto store = [&] {
-    for (std::size_t s = 0; s < n; ++s) {
-      bodies[s].v = work.vel[s].v;
-      bodies[s].w = work.vel[s].w;
-    }
+namespace {
+
+// The kinetic energy of an island's bodies and trees at the velocities in `work`.
+double islandKinetic(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
+                     const SolverWork& work, const SolverWork::Island& I) {
+  double T = 0.0;
+  for (int q = I.first_body; q < I.first_body + I.bodies; ++q) {
+    const int s = work.island_body[q];
+    const SolverWork::Twist& t = work.vel[s];
+    T += 0.5 * (bodies[s].mass * t.v.squaredNorm() + t.w.dot(bodies[s].inertia * t.w));
+  }
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+    const SolverTree& t = trees[work.island_tree[q]];
+    T += 0.5 * t.nu.dot(t.M.selfadjointView<Eigen::Lower>() * t.nu);
+  }
+  return T;
+}
+
+// Calls f(k, row) for the island's rows, in their order.
+template <class F>
+void forRows(const SolverWork& work, std::vector<ContactRow>& rows, const SolverWork::Island& I,
+             F&& f) {
+  for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
+    const SolverWork::Group& g = work.groups[work.island_group[q]];
+    for (int k = g.first; k < g.first + g.size; ++k) f(static_cast<std::size_t>(k), rows[k]);
+  }
+}
+
+// The velocity solve of one island (sweeps until its own change is below the tolerance, and
+// the energy guard); returns its sweeps.
+int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
+                std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, SolverWork& work,
+                const SolverWork::Island& I) {
+  const auto bodiesOf = [&](auto&& f) {
+    for (int q = I.first_body; q < I.first_body + I.bodies; ++q) f(work.island_body[q]);
   };
-  stats.kinetic_before = kineticEnergy(bodies, trees);
+  const auto treesOf = [&](auto&& f) {
+    for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) f(trees[work.island_tree[q]]);
+  };
   double speed = 0.0;  // the fastest contact point's speed before the impulses
-  for (std::size_t s = 0; s < n; ++s)
+  bodiesOf([&](int s) {
     speed = std::max(speed, work.vel[s].v.norm() + work.response[s].reach * work.vel[s].w.norm());
-  for (const ContactRow& c : rows)
-    if (onTree(c)) speed = std::max(speed, treeVelocity<&SolverTree::nu>(trees, c).norm());
+  });
+  if (I.trees > 0)
+    forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+      if (onTree(c)) speed = std::max(speed, treeVelocity<&SolverTree::nu>(trees, c).norm());
+    });
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
                            st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
-  bool any_tree = false;
-  for (const ContactRow& c : rows) any_tree = any_tree || onTree(c);
-
+  const double kinetic_before = islandKinetic(bodies, trees, work, I);
+  int sweeps = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
-      std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
-      for (SolverTree& t : trees) t.nu = t.nu_start;
-      for (ContactRow& c : rows) {
+      bodiesOf([&](int s) { work.vel[s] = work.vel_start[s]; });
+      treesOf([](SolverTree& t) { t.nu = t.nu_start; });
+      forRows(work, rows, I, [](std::size_t, ContactRow& c) {
         c.lambda_n = 0.0;
         c.lambda_t.setZero();
-      }
+      });
     }
-    setTargets(st, work, trees, bounce, rows);
-    for (std::size_t k = 0; k < rows.size(); ++k) {  // warm start, inside the cone
-      ContactRow& c = rows[k];
+    forRows(work, rows, I,
+            [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
+    forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
       c.lambda_n = std::max(0.0, c.lambda_n);
       const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
       if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
       applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
                                c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
-    }
+    });
     int it = 0;
     for (; it < st.max_iterations; ++it) {
-      std::copy(work.vel.begin(), work.vel.end(), work.vel_sweep.begin());
-      for (SolverTree& t : trees) t.nu_sweep = t.nu;
-      for (const SolverWork::Group& g : work.groups) {
+      bodiesOf([&](int s) { work.vel_sweep[s] = work.vel[s]; });
+      treesOf([](SolverTree& t) { t.nu_sweep = t.nu; });
+      for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
+        const SolverWork::Group& g = work.groups[work.island_group[q]];
         if (g.size > 1) {
           sweepGroup(g, work, trees, rows);
           continue;
@@ -508,27 +610,56 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
           applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                    dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
       }
-      double change = bodyChange(work);
-      if (any_tree) {  // a tree's change as its contact points see it
-        for (SolverTree& t : trees) t.nu_sweep = t.nu - t.nu_sweep;
-        for (const ContactRow& c : rows)
+      double change = bodyChange(work, I);
+      if (I.trees > 0) {  // a tree's change as its contact points see it
+        treesOf([](SolverTree& t) { t.nu_sweep = t.nu - t.nu_sweep; });
+        forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
           if (onTree(c))
             change = std::max(change, treeVelocity<&SolverTree::nu_sweep>(trees, c).norm());
+        });
       }
       if (change < tolerance) {
         ++it;
         break;
       }
     }
-    stats.iterations += it;
-    store();
-    stats.kinetic_after = kineticEnergy(bodies, trees);
+    sweeps += it;
     bool any_bounce = false;
-    for (const ContactRow& c : rows) any_bounce = any_bounce || c.impact > 0;
+    forRows(work, rows, I,
+            [&](std::size_t, ContactRow& c) { any_bounce = any_bounce || c.impact > 0; });
     // The energy guard: restitution in several simultaneous impacts can add energy; e = 0
     // cannot (doc/contacts.md#energy).
-    if (!any_bounce || stats.kinetic_after <= stats.kinetic_before * (1 + 1e-12) + 1e-300) break;
+    if (!any_bounce ||
+        islandKinetic(bodies, trees, work, I) <= kinetic_before * (1 + 1e-12) + 1e-300)
+      break;
   }
+  return sweeps;
+}
+
+}  // namespace
+
+SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bodies,
+                           std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                           SolverWork& work) {
+  SolveStats stats;
+  load(bodies, rows, work);
+  makeGroups(rows, work);
+  makeIslands(rows, static_cast<int>(trees.size()), work);
+  const std::size_t n = bodies.size();
+  // The velocities before any contact impulse: the warm start is applied after the targets
+  // are read from them.
+  for (std::size_t s = 0; s < n; ++s) work.vel_start[s] = {bodies[s].v, bodies[s].w};
+  work.vel_start[n] = Twist();
+  std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
+  for (SolverTree& t : trees) t.nu_start = t.nu;
+  stats.kinetic_before = kineticEnergy(bodies, trees);
+  for (const SolverWork::Island& I : work.islands)
+    stats.iterations = std::max(stats.iterations, solveIsland(st, bodies, trees, rows, work, I));
+  for (std::size_t s = 0; s < n; ++s) {
+    bodies[s].v = work.vel[s].v;
+    bodies[s].w = work.vel[s].w;
+  }
+  stats.kinetic_after = kineticEnergy(bodies, trees);
   return stats;
 }
 
@@ -548,32 +679,42 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     max_bias = std::max(max_bias, c.bias);
   }
   if (max_bias == 0.0) return;
-  load(bodies, rows, work);  // the responses (unchanged since the velocity solve)
-  std::fill(work.vel.begin(), work.vel.end(), Twist());
-  bool any_tree = false;
-  for (const ContactRow& c : rows) any_tree = any_tree || onTree(c);
-  for (int it = 0; it < st.position_iterations; ++it) {
-    std::copy(work.vel.begin(), work.vel.end(), work.vel_sweep.begin());
-    for (SolverTree& t : trees) t.pnu_sweep = t.pnu;
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      ContactRow& c = rows[k];
-      if (c.bias <= 0 && c.lambda_p == 0.0) continue;
-      const int a = work.a[k], b = work.b[k];
-      double u = c.n.dot(relativeVelocity(work.vel, a, b, c));
-      if (onTree(c)) u += c.n.dot(treeVelocity<&SolverTree::pnu>(trees, c));
-      const double lp = std::max(0.0, c.lambda_p + (c.bias - u) * c.inv_k_nn);
-      const double d = lp - c.lambda_p;
-      c.lambda_p = lp;
-      if (d != 0.0) applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
+  std::fill(work.vel.begin(), work.vel.end(), Twist());  // the responses and islands are kept
+  for (const SolverWork::Island& I : work.islands) {
+    double island_bias = 0.0;
+    forRows(work, rows, I,
+            [&](std::size_t, ContactRow& c) { island_bias = std::max(island_bias, c.bias); });
+    if (island_bias == 0.0) continue;
+    for (int it = 0; it < st.position_iterations; ++it) {
+      for (int q = I.first_body; q < I.first_body + I.bodies; ++q)
+        work.vel_sweep[work.island_body[q]] = work.vel[work.island_body[q]];
+      for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+        SolverTree& t = trees[work.island_tree[q]];
+        t.pnu_sweep = t.pnu;
+      }
+      forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+        if (c.bias <= 0 && c.lambda_p == 0.0) return;
+        const int a = work.a[k], b = work.b[k];
+        double u = c.n.dot(relativeVelocity(work.vel, a, b, c));
+        if (onTree(c)) u += c.n.dot(treeVelocity<&SolverTree::pnu>(trees, c));
+        const double lp = std::max(0.0, c.lambda_p + (c.bias - u) * c.inv_k_nn);
+        const double d = lp - c.lambda_p;
+        c.lambda_p = lp;
+        if (d != 0.0) applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
+      });
+      double change = bodyChange(work, I);
+      if (I.trees > 0) {
+        for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+          SolverTree& t = trees[work.island_tree[q]];
+          t.pnu_sweep = t.pnu - t.pnu_sweep;
+        }
+        forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+          if (onTree(c))
+            change = std::max(change, treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
+        });
+      }
+      if (change < 1e-3 * island_bias) break;  // 0.1 % of the island's largest correction
     }
-    double change = bodyChange(work);
-    if (any_tree) {
-      for (SolverTree& t : trees) t.pnu_sweep = t.pnu - t.pnu_sweep;
-      for (const ContactRow& c : rows)
-        if (onTree(c))
-          change = std::max(change, treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
-    }
-    if (change < 1e-3 * max_bias) break;  // 0.1 % of the largest correction: plenty
   }
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].pv = work.vel[s].v;

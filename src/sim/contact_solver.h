@@ -10,8 +10,9 @@
 //   friction   the elliptic (here: circular, μ isotropic) Coulomb cone |λ_t| ≤ μ λ_n: sticking
 //              (u_t = 0) inside it, sliding with λ_t opposite u_t on its rim. A diagonal push
 //              sees the same cone as a straight one.
-// Warm-started from the impulses of the same contacts in the last step, so a resting stack
-// starts at its solution. The corners of a face (consecutive contacts between the same two
+// Solved island by island (bodies joined by their contacts), each until its own sweeps
+// converge. Warm-started from the impulses of the same contacts in the last step, so a resting
+// stack starts at its solution. The corners of a face (consecutive contacts between the same two
 // bodies with one normal) take their normal impulses as one block (SolverWork::Group), which
 // Gauss–Seidel corner by corner would trade between them for ever. A solve whose restitution
 // would raise the kinetic energy (several simultaneous impacts) is redone with e = 0, which
@@ -119,8 +120,8 @@ struct SolverSettings {
   /// … plus this fraction of the step's kick g h: a column of boxes keeps a slow Gauss–Seidel
   /// mode alive at ~1e-12 m/s (it moves the top box by 1e-11 m in 10 s).
   double tolerance_of_kick = 1e-10;
-  /// … plus this fraction of the fastest contact point's speed beyond twice the kick: 1e-9
-  /// relative accuracy while bodies move fast (a falling pile), nothing added once they rest.
+  /// … plus this fraction of the fastest contact point's speed in the island beyond twice the
+  /// kick: 1e-9 relative accuracy while its bodies move fast, nothing added once they rest.
   double tolerance_of_speed = 1e-9;
 };
 
@@ -154,10 +155,23 @@ struct SolverWork {
     Eigen::Matrix4d pinv = Eigen::Matrix4d::Zero();
   };
   std::vector<Group> groups;
+  /// The islands: the bodies joined by their contacts (static bodies and the ground join
+  /// nothing; a tree joins every contact on any of its links), each a run of `groups` in
+  /// island_group and of slots in island_body, trees in island_tree. They are solved one
+  /// after the other, each until its own sweeps converge: an island's impulses do not depend
+  /// on bodies it does not touch, and a settled island stops sweeping while another lands.
+  struct Island {
+    int first_group = 0, groups = 0;
+    int first_body = 0, bodies = 0;
+    int first_tree = 0, trees = 0;
+  };
+  std::vector<Island> islands;
+  std::vector<int> island_group, island_body, island_tree;
+  std::vector<int> root, node_island, group_island;  ///< scratch of makeIslands
 };
 
 struct SolveStats {
-  int iterations = 0;
+  int iterations = 0;  ///< the sweeps of the island that took the most
   double kinetic_before = 0.0, kinetic_after = 0.0;
 };
 
@@ -171,7 +185,8 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
 SolveStats solveVelocities(const SolverSettings& settings, std::vector<SolverBody>& bodies,
                            std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                            SolverWork& work);
-/// Solves the position correction's pseudo-velocities pv, pw and pν (normal only, no friction).
+/// Solves the position correction's pseudo-velocities pv, pw and pν (normal only, no friction),
+/// island by island: call it after solveVelocities on the same rows (it reuses the islands).
 void solvePositions(const SolverSettings& settings, std::vector<SolverBody>& bodies,
                     std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                     SolverWork& work);
