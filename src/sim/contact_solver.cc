@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "contact_resting.h"
+
 namespace cga_rigid_sim {
 namespace sim {
 namespace {
@@ -577,13 +579,18 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     }
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
-    forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
-      c.lambda_n = std::max(0.0, c.lambda_n);
-      const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
-      if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
-      applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
-                               c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
-    });
+    // A resting island of faces solved directly; the sweeps then only confirm it.
+    if (bounce && solveResting(bodies, rows, work, I)) {
+      ++work.resting_solves;
+    } else {
+      forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
+        c.lambda_n = std::max(0.0, c.lambda_n);
+        const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
+        if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
+        applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
+                                 c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
+      });
+    }
     int it = 0;
     for (; it < st.max_iterations; ++it) {
       bodiesOf([&](int s) { work.vel_sweep[s] = work.vel[s]; });
@@ -653,6 +660,7 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
   std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
   for (SolverTree& t : trees) t.nu_start = t.nu;
   stats.kinetic_before = kineticEnergy(bodies, trees);
+  work.resting_solves = 0;
   for (const SolverWork::Island& I : work.islands)
     stats.iterations = std::max(stats.iterations, solveIsland(st, bodies, trees, rows, work, I));
   for (std::size_t s = 0; s < n; ++s) {
@@ -660,6 +668,7 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
     bodies[s].w = work.vel[s].w;
   }
   stats.kinetic_after = kineticEnergy(bodies, trees);
+  stats.resting_islands = work.resting_solves;
   return stats;
 }
 

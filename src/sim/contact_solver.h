@@ -168,10 +168,32 @@ struct SolverWork {
   std::vector<Island> islands;
   std::vector<int> island_group, island_body, island_tree;
   std::vector<int> root, node_island, group_island;  ///< scratch of makeIslands
+  /// The direct solve of a resting island (contact_resting.h): at most 16 faces, so its
+  /// matrices have a fixed largest size and a step allocates nothing.
+  struct Resting {
+    static constexpr int kMax = 6 * 16;
+    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
+    using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1>;
+    struct Face {
+      Eigen::Vector3d c;     ///< the corners' centre, world
+      Eigen::Vector3d p[4];  ///< the corners from c
+      Eigen::Vector3d impulse[4];
+      Eigen::Matrix3d S_inv;   ///< (Σ |ρ|² 1 − ρ ρᵀ)⁻¹
+      int side[2] = {-1, -1};  ///< its bodies' places in the island (−1: immovable)
+      Eigen::Matrix<double, 6, 6> phi[2];
+    };
+    Face faces[16];
+    Matrix A;
+    Vector rhs, W;
+    Eigen::LDLT<Matrix> ldlt;
+  };
+  Resting resting;
+  int resting_solves = 0;  ///< islands of this solve solved directly
 };
 
 struct SolveStats {
-  int iterations = 0;  ///< the sweeps of the island that took the most
+  int iterations = 0;       ///< the sweeps of the island that took the most
+  int resting_islands = 0;  ///< islands solved directly as resting (contact_resting.h)
   double kinetic_before = 0.0, kinetic_after = 0.0;
 };
 

@@ -471,6 +471,57 @@ TEST(Contacts, AnIslandIsSolvedAsIfAloneInTheWorld) {
   EXPECT_LT(stateNamed(*with_others, "c2").com.z(), 0.6);      // the other column landed
 }
 
+// Truth: a column resting on the ground is solved as welded (doc/contacts.md#resting-islands):
+// the exact solution of its contacts, every corner pushing and sticking, stops every box dead,
+// and every face then carries the weight of the boxes above it: the impulse its corners give
+// the box above (normal and friction, world) is (0, 0, (boxes above) m g h) per step. Ten
+// 0.1 m boxes dropped with 5 cm gaps (the 1000-box pile's columns) land by 0.46 s (slightly
+// tilted); from 0.5 s each box's speed |v| + 0.1 m |ω| must be below 1e-14 m/s (the step's kick
+// g h = 1e-2 m/s cancelled to round-off, ~1e-17, with a margin of 100; Gauss–Seidel alone left
+// the column creeping at 7e-10 … 5e-9 m/s through the next 0.5 s) and the faces' impulses equal
+// the weights to 1e-12 relative (round-off of ten sums). Sleeping is off so every step is solved.
+TEST(Contacts, RestingColumnIsWeldedAndCarriesItsWeight) {
+  constexpr int kBoxes = 10;
+  std::vector<scene::BodyModel> bodies;
+  for (int i = 0; i < kBoxes; ++i)
+    bodies.push_back(block("b" + std::to_string(i), 1.0, {0.1, 0.1, 0.1}, {0, 0, 0.55 + 0.15 * i}));
+  sim::WorldConfig config;
+  config.contact_mu = 0.5;
+  config.contact_restitution = 0.2;
+  config.contact_sleeping = false;
+  config.ground_plane = sim::GroundPlane{};
+  auto created = sim::World::create(makeScene(bodies, {0, 0, -kG}), config);
+  ASSERT_TRUE(created.ok()) << created.error();
+  auto& w = created.value();
+  const double h = config.dt;
+  const auto index = [](const std::string& name) {
+    return name == sim::kGroundPlaneName ? -1 : std::stoi(name.substr(1));
+  };
+  w->step(500);
+  double fastest = 0.0, worst_weight = 0.0;
+  for (int s = 0; s < 500; ++s) {
+    w->step();
+    for (const auto& b : w->bodyStates())
+      fastest = std::max(fastest, b.linear_velocity.norm() + 0.1 * b.angular_velocity.norm());
+    // The impulse of the face under box k on box k.
+    std::vector<Eigen::Vector3d> carried(kBoxes, Eigen::Vector3d::Zero());
+    for (const auto& c : w->contacts()) {
+      const int a = index(c.body_a), b = index(c.body_b);
+      const Eigen::Vector3d on_a = c.normal_impulse * c.normal + c.friction_impulse;
+      carried[std::max(a, b)] += a > b ? on_a : Eigen::Vector3d(-on_a);
+    }
+    for (int k = 0; k < kBoxes; ++k) {
+      const double weight = (kBoxes - k) * 1.0 * kG * h;
+      worst_weight =
+          std::max(worst_weight, (carried[k] - Eigen::Vector3d(0, 0, weight)).norm() / weight);
+    }
+  }
+  EXPECT_LT(fastest, 1e-14);
+  EXPECT_LT(worst_weight, 1e-12);
+  std::printf("[ info ] resting column: speed <= %.1e m/s, weights to %.1e relative\n", fastest,
+              worst_weight);
+}
+
 // Truth: the tabletop example scene (urdf/tabletop.urdf, started as config/tabletop.yaml does)
 // comes to rest without gaining energy: the crate dropped on the table top rests on it (its
 // centre 0.1 m above the top at z = 0.76 m, 1 mm: the settled overlap is far below), the
