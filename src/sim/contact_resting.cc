@@ -32,14 +32,24 @@ int localIndex(const SolverWork& work, const SolverWork::Island& I, int s) {
 
 bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>& rows,
                   SolverWork& work, const SolverWork::Island& I) {
-  if (I.trees > 0 || I.groups > kMaxRestingFaces || I.groups == 0) return false;
+  // One face alone already converges in a sweep or two (its normal block is exact).
+  if (I.trees > 0 || I.groups > kMaxRestingFaces || I.groups < 2) return false;
   const int n = static_cast<int>(bodies.size());
   const int F = I.groups;
-  SolverWork::Resting& R = work.resting;
-  // Faces: three or four corners at rest, not on a line.
+  // Faces of three or four corners, none of which slid in the last step (its warm start on the
+  // cone's rim): a sliding island would only fail the test below.
   for (int f = 0; f < F; ++f) {
     const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
     if (g.size < 3) return false;
+    for (int i = 0; i < g.size; ++i) {
+      const ContactRow& c = rows[g.first + i];
+      if (c.lambda_n > 0 && c.lambda_t.norm() >= (1 - 1e-9) * c.mu * c.lambda_n) return false;
+    }
+  }
+  SolverWork::Resting& R = work.resting;
+  // Faces: at rest, not on a line.
+  for (int f = 0; f < F; ++f) {
+    const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
     SolverWork::Resting::Face& face = R.faces[f];
     const int a = work.a[g.first], b = work.b[g.first];
     face.c.setZero();

@@ -1,10 +1,11 @@
 // Resting islands solved directly (doc/contacts.md#resting-islands): an island whose contacts
-// are all faces (three or four corners between the same two bodies, one normal) at rest
-// (targets 0, no impact) is tried as welded: every face's relative twist brought to zero at
-// once by one linear solve of the faces' 6 × 6 Delassus blocks. When the corners' impulses of
-// that solution are all pushing and inside their friction cones it is the exact solution of the
-// island's contact problem (every corner active and sticking, complementarity holds), which
-// Gauss–Seidel reaches only slowly on a column of boxes (a slow mode of the column as a whole).
+// are all faces (three or four corners between the same two bodies, one normal), two or more,
+// at rest (targets 0, no impact, none sliding in the last step) is tried as welded: every face's
+// relative twist brought to zero at once by one linear solve of the faces' 6 × 6 Delassus blocks.
+// When the corners' impulses of that solution are all pushing and inside their friction cones it is
+// the exact solution of the island's contact problem (every corner active and sticking,
+// complementarity holds), which Gauss–Seidel reaches only slowly on a column of boxes (a slow mode
+// of the column as a whole).
 #pragma once
 
 #include <vector>
