@@ -215,6 +215,18 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
 // all of them would.
 void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& work) {
   const int n = static_cast<int>(work.response.size()) - 1;
+  if (work.groups.size() == 1 && !onTree(rows[work.groups[0].first])) {  // one face or contact
+    const int a = work.a[work.groups[0].first], b = work.b[work.groups[0].first];
+    work.island_group.assign(1, 0);
+    work.island_body.clear();
+    if (a < n) work.island_body.push_back(a);
+    if (b < n) work.island_body.push_back(b);
+    work.island_tree.clear();
+    work.islands.assign(1, SolverWork::Island());
+    work.islands[0].groups = 1;
+    work.islands[0].bodies = static_cast<int>(work.island_body.size());
+    return;
+  }
   std::vector<int>& root = work.root;
   root.resize(n + n_trees);
   for (int x = 0; x < n + n_trees; ++x) root[x] = x;
@@ -518,18 +530,21 @@ double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<So
 
 namespace {
 
-// The kinetic energy of an island's bodies and trees at the velocities in `work`.
+// The kinetic energy of an island's bodies and trees, before the contact impulses (vel_start,
+// ν_start) or at the velocities now in `work` (vel, ν).
 double islandKinetic(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
-                     const SolverWork& work, const SolverWork::Island& I) {
+                     const SolverWork& work, const SolverWork::Island& I, bool before) {
+  const std::vector<SolverWork::Twist>& vel = before ? work.vel_start : work.vel;
   double T = 0.0;
   for (int q = I.first_body; q < I.first_body + I.bodies; ++q) {
     const int s = work.island_body[q];
-    const SolverWork::Twist& t = work.vel[s];
+    const SolverWork::Twist& t = vel[s];
     T += 0.5 * (bodies[s].mass * t.v.squaredNorm() + t.w.dot(bodies[s].inertia * t.w));
   }
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const SolverTree& t = trees[work.island_tree[q]];
-    T += 0.5 * t.nu.dot(t.M.selfadjointView<Eigen::Lower>() * t.nu);
+    const Eigen::VectorXd& nu = before ? t.nu_start : t.nu;
+    T += 0.5 * nu.dot(t.M.selfadjointView<Eigen::Lower>() * nu);
   }
   return T;
 }
@@ -565,7 +580,6 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     });
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
                            st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
-  const double kinetic_before = islandKinetic(bodies, trees, work, I);
   int sweeps = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
@@ -636,8 +650,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
             [&](std::size_t, ContactRow& c) { any_bounce = any_bounce || c.impact > 0; });
     // The energy guard: restitution in several simultaneous impacts can add energy; e = 0
     // cannot (doc/contacts.md#energy).
-    if (!any_bounce ||
-        islandKinetic(bodies, trees, work, I) <= kinetic_before * (1 + 1e-12) + 1e-300)
+    if (!any_bounce || islandKinetic(bodies, trees, work, I, false) <=
+                           islandKinetic(bodies, trees, work, I, true) * (1 + 1e-12) + 1e-300)
       break;
   }
   return sweeps;
