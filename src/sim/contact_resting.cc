@@ -6,18 +6,12 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-Eigen::Matrix3d cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d m;
-  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return m;
-}
-
 // Φ: the twist (v at the face's centre c, ω) that body s's twist (v at x_s, ω) gives, times
 // the side's sign: v_c = v + ω × r = v − [r]× ω, r = c − x_s. Its transpose carries the face's
 // wrench (force P at c, couple L) to the body: (P, r × P + L).
 Eigen::Matrix<double, 6, 6> faceMap(const Eigen::Vector3d& r, double sign) {
   Eigen::Matrix<double, 6, 6> phi = Eigen::Matrix<double, 6, 6>::Identity();
-  phi.topRightCorner<3, 3>() = -cross(r);
+  phi.topRightCorner<3, 3>() = -crossMatrix(r);
   return sign * phi;
 }
 

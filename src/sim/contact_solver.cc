@@ -10,12 +10,6 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-Eigen::Matrix3d cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d m;
-  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return m;
-}
-
 using Twist = SolverWork::Twist;
 
 // u = J ν of the contact's tree sides (ν or, for the position correction, pν).
@@ -474,7 +468,7 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     for (int side = 0; side < 2; ++side) {
       const int s = side ? c.b : c.a;
       if (s < 0) continue;
-      const Eigen::Matrix3d R = cross(side ? c.rb : c.ra);
+      const Eigen::Matrix3d R = crossMatrix(side ? c.rb : c.ra);
       K += bodies[s].inv_mass * Eigen::Matrix3d::Identity() - R * bodies[s].inv_inertia * R;
     }
     if (c.ta >= 0) {

@@ -191,6 +191,13 @@ struct SolverWork {
   int resting_solves = 0;  ///< islands of this solve solved directly
 };
 
+/// [r]×, the matrix of r × (·).
+inline Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d m;
+  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return m;
+}
+
 struct SolveStats {
   int iterations = 0;       ///< the sweeps of the island that took the most
   int resting_islands = 0;  ///< islands solved directly as resting (contact_resting.h)

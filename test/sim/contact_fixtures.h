@@ -58,11 +58,14 @@ inline scene::BodyModel block(const std::string& name, double m, const Eigen::Ve
                    boxShape(size));
 }
 
-/// A world with a ground plane at z = 0 with (μ, e), default surfaces (μ0, e0).
+/// A world with a ground plane at z = 0 with (μ, e), default surfaces (μ0, e0); `sleeping`
+/// off solves every step.
 inline std::unique_ptr<sim::World> contactWorld(scene::Scene scene, double mu, double e,
-                                                double dt = 1e-3, bool plane = true) {
+                                                double dt = 1e-3, bool plane = true,
+                                                bool sleeping = true) {
   sim::WorldConfig config;
   config.dt = dt;
+  config.contact_sleeping = sleeping;
   config.contact_mu = mu;
   config.contact_restitution = e;
   if (plane) config.ground_plane = sim::GroundPlane{};

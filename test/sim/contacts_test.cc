@@ -440,14 +440,7 @@ TEST(Contacts, AnIslandIsSolvedAsIfAloneInTheWorld) {
     return c;
   };
   const auto world = [](std::vector<scene::BodyModel> bodies) {
-    sim::WorldConfig config;
-    config.contact_mu = 0.5;
-    config.contact_restitution = 0.3;
-    config.contact_sleeping = false;
-    config.ground_plane = sim::GroundPlane{};
-    auto w = sim::World::create(makeScene(bodies, {0, 0, -kG}), config);
-    EXPECT_TRUE(w.ok()) << w.error();
-    return std::move(w.value());
+    return contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.3, 1e-3, true, false);
   };
   auto alone = world(column("a", 0.0, 0.15));
   std::vector<scene::BodyModel> crowd = column("a", 0.0, 0.15);
@@ -485,15 +478,9 @@ TEST(Contacts, RestingColumnIsWeldedAndCarriesItsWeight) {
   std::vector<scene::BodyModel> bodies;
   for (int i = 0; i < kBoxes; ++i)
     bodies.push_back(block("b" + std::to_string(i), 1.0, {0.1, 0.1, 0.1}, {0, 0, 0.55 + 0.15 * i}));
-  sim::WorldConfig config;
-  config.contact_mu = 0.5;
-  config.contact_restitution = 0.2;
-  config.contact_sleeping = false;
-  config.ground_plane = sim::GroundPlane{};
-  auto created = sim::World::create(makeScene(bodies, {0, 0, -kG}), config);
-  ASSERT_TRUE(created.ok()) << created.error();
-  auto& w = created.value();
-  const double h = config.dt;
+  const double h = 1e-3;
+  auto w = contactWorld(makeScene(bodies, {0, 0, -kG}), 0.5, 0.2, h, true, false);
+  ASSERT_TRUE(w);
   const auto index = [](const std::string& name) {
     return name == sim::kGroundPlaneName ? -1 : std::stoi(name.substr(1));
   };
