@@ -76,11 +76,16 @@ Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::strin
 
 // The joint's own motion exp(−½ q S): S = (axis, 0) for a revolute or continuous joint (a turn
 // by q about the axis, (E3)), S = (0, axis/λ) for a prismatic one (a shift by q along it, (E2)).
+// A turn beyond ±4π is first reduced by whole multiples of 4π, the rotor's period (so not even
+// its sign changes; std::remainder is exact, and the reduction's error, |q| 1.4e-16, is below
+// the rounding of q itself): exp squares its angle, and a continuous joint set to 1e308 rad
+// left a non-finite pose (found by fuzz_initial_state).
 cga::Motor jointMotion(const JointModel& j, double q, double lambda) {
-  const cga::Bivelocity S = j.type == JointType::kPrismatic
-                                ? cga::Bivelocity(Eigen::Vector3d::Zero(), j.axis / lambda)
-                                : cga::Bivelocity(j.axis, Eigen::Vector3d::Zero());
-  return cga::exp(S * (-0.5 * q));
+  if (j.type == JointType::kPrismatic)
+    return cga::exp(cga::Bivelocity(Eigen::Vector3d::Zero(), j.axis / lambda) * (-0.5 * q));
+  constexpr double kPeriod = 4 * M_PI;
+  const double turn = std::abs(q) > kPeriod ? std::remainder(q, kPeriod) : q;
+  return cga::exp(cga::Bivelocity(j.axis, Eigen::Vector3d::Zero()) * (-0.5 * turn));
 }
 
 // One joint's entry {position: q, velocity: v}, `where` = "<source>: initial_state.<joint>".

@@ -531,6 +531,32 @@ TEST(Joints, ContinuousIgnoresPositionLimitsAndMissingLowerIsZero) {
       << s.warnings[0];
 }
 
+// Truth: a turn about a joint's axis keeps the child's centre of mass on its circle about the
+// axis: the same distance from the axis and the same height along it as at q = 0, whatever q.
+// A continuous joint set to 1e308 rad (found by fuzz_initial_state: it left a non-finite pose,
+// exp squaring the angle) gives a finite pose on that circle (round-off, 1e-15 m), and 12 rad
+// the same pose as 12 − 4π rad (the rotor's period) to round-off.
+TEST(Joints, HugeContinuousAngleStaysOnTheJointsCircle) {
+  const std::string urdf = R"(<robot name="r">
+    <link name="world"/>
+    <joint name="wheel" type="continuous"><origin xyz="0 0 1"/><parent link="world"/>
+      <child link="arm"/><axis xyz="0 1 0"/></joint>
+    <link name="arm"><inertial><origin xyz="0.3 0.2 0"/><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.01"/></inertial></link>
+  </robot>)";
+  const auto com = [&](double q) {
+    return load(urdf, jointState("wheel", q)).bodies[0].M_WB0.translation(1.0);
+  };
+  const Vector3d c0 = com(0.0);
+  for (const double q : {1.01e308, -3e200, 1e20}) {
+    const Vector3d c = com(q);
+    ASSERT_TRUE(c.allFinite()) << q;
+    EXPECT_NEAR(c.y(), c0.y(), 1e-15) << q;
+    EXPECT_NEAR(std::hypot(c.x(), c.z() - 1.0), std::hypot(c0.x(), c0.z() - 1.0), 1e-15) << q;
+  }
+  EXPECT_LT((com(12.0) - com(12.0 - 4 * M_PI)).norm(), 1e-14);
+}
+
 // Errors of joint entries: the message names the joint and the key, and nothing is applied.
 TEST(Joints, InitialStateErrorsNameTheJointAndChangeNothing) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
