@@ -588,9 +588,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
     // A resting island of faces solved directly; the sweeps then only confirm it.
-    if (bounce && solveResting(bodies, rows, work, I)) {
-      ++work.resting_solves;
-    } else {
+    if (!bounce || !solveResting(bodies, rows, work, I)) {
       forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
         c.lambda_n = std::max(0.0, c.lambda_n);
         const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
@@ -668,7 +666,6 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
   std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
   for (SolverTree& t : trees) t.nu_start = t.nu;
   stats.kinetic_before = kineticEnergy(bodies, trees);
-  work.resting_solves = 0;
   for (const SolverWork::Island& I : work.islands)
     stats.iterations = std::max(stats.iterations, solveIsland(st, bodies, trees, rows, work, I));
   for (std::size_t s = 0; s < n; ++s) {
@@ -676,7 +673,6 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
     bodies[s].w = work.vel[s].w;
   }
   stats.kinetic_after = kineticEnergy(bodies, trees);
-  stats.resting_islands = work.resting_solves;
   return stats;
 }
 

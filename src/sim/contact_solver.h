@@ -188,7 +188,6 @@ struct SolverWork {
     Eigen::LDLT<Matrix> ldlt;
   };
   Resting resting;
-  int resting_solves = 0;  ///< islands of this solve solved directly
 };
 
 /// [r]×, the matrix of r × (·).
@@ -199,8 +198,7 @@ inline Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& r) {
 }
 
 struct SolveStats {
-  int iterations = 0;       ///< the sweeps of the island that took the most
-  int resting_islands = 0;  ///< islands solved directly as resting (contact_resting.h)
+  int iterations = 0;  ///< the sweeps of the island that took the most
   double kinetic_before = 0.0, kinetic_after = 0.0;
 };
 
