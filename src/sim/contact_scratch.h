@@ -9,6 +9,7 @@
 #include "cga_rigid_sim/cga/moment.h"
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "contact_detection.h"
 #include "contact_sleep.h"
@@ -33,8 +34,13 @@ struct ContactScratch {
   std::vector<ContactRow> rows;                       ///< per contact
   SleepState sleep;                                   ///< the sleeping islands (contact_sleep.h)
   SolverWork work;  ///< the solver's working arrays (the landings' solves use them too)
-  std::vector<std::size_t> previous;           ///< last step's contacts, sorted by their pair
-  std::vector<cga::Moment> impulse_B;          ///< per slot: the sum of its contact impulses, B
+  std::vector<std::size_t> previous;  ///< last step's contacts, sorted by their pair
+  /// Per slot of a free body: its world-axes momentum (contact_momentum.h) after the kick and,
+  /// once solved, the impulses; its centre's velocity before the kick.
+  std::vector<MovingBodyData::ContactMomentum> momentum;
+  std::vector<Eigen::Vector3d> v_start;
+  /// Per slot: the sum of its contact impulses and of their moments about its centre, world.
+  std::vector<Eigen::Vector3d> impulse_W, impulse_moment_W;
   std::vector<Eigen::Vector3d> common_normal;  ///< per slot: its contacts' one normal, or NaN
   std::vector<char> landing;                   ///< per slot: it lands within the step
   std::vector<Contact> landed;                 ///< the landings' contacts, with impulses

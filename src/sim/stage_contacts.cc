@@ -7,9 +7,9 @@
 #include <tuple>
 
 #include "cga_rigid_sim/dynamics/derived.h"
-#include "cga_rigid_sim/dynamics/impulse.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "contact_landing.h"
+#include "contact_momentum.h"
 #include "contact_scratch.h"
 #include "contact_trees.h"
 
@@ -53,13 +53,17 @@ int slotOf(const Model& model, ContactScratch& S, int j) {
   return S.slot_of_moving[i];
 }
 
-// Ω_B after the loads' kick over h: ΔΩ_B = h (I∧n)⁻¹ (T_applied + T_gravity).
-cga::Bivelocity kicked(const Model& model, const MovingBodyData& b, int i) {
-  const dynamics::Inertia& I = model.moving[i].inertia;
-  const double lambda = model.lambda, h = model.config.dt;
-  cga::Moment T = b.loads.gravityMoment_B(I.mass(), b.state.M_WB, lambda);
-  if (b.loads.hasApplied()) T += b.loads.appliedMoment_B(b.state.M_WB, lambda);
-  return b.state.omega_B + h * I.solve(T, lambda);
+// The loads' kick over h, added to the world-axes momentum: h g (and h f_W / m, h τ_W of the
+// applied loads) — the same ΔΩ_B = h (I∧n)⁻¹ (T_applied + T_gravity), in world axes.
+void kickMomentum(const Model& model, const MovingBodyData& b, const dynamics::Inertia& I,
+                  MovingBodyData::ContactMomentum& m) {
+  const double h = model.config.dt, lambda = model.lambda;
+  if (b.loads.hasGravity()) addCompensated(m.v_hi, m.v_lo, h * b.loads.gravity());
+  if (!b.loads.hasApplied()) return;
+  const cga::Moment T = b.loads.appliedMoment_B(b.state.M_WB, lambda);
+  const Eigen::Quaterniond& R = b.state.M_WB.rotation();
+  addCompensated(m.v_hi, m.v_lo, (h / I.mass()) * (R * T.force(lambda)));
+  addCompensated(m.L_hi, m.L_lo, h * (R * T.torque()));
 }
 
 }  // namespace
@@ -113,13 +117,22 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   for (std::size_t u = 0; u < S.trees.size(); ++u)
     kickTree(model, data, S.tree_of_solver_tree[u], S.trees[u], S.tree_kicked[u]);
   S.kicked_B.resize(S.moving_of_slot.size());
+  S.momentum.resize(S.moving_of_slot.size());
+  S.v_start.resize(S.moving_of_slot.size());
   S.bodies.resize(S.moving_of_slot.size());
   for (std::size_t s = 0; s < S.moving_of_slot.size(); ++s) {
     const int i = S.moving_of_slot[s];
     const int t = model.tree_of_moving[i];
     if (t < 0) {
-      S.kicked_B[s] = kicked(model, data.bodies[i], i);
-      S.bodies[s] = solverBody(model, data.bodies[i].state, S.kicked_B[s], i);
+      const MovingBodyData& b = data.bodies[i];
+      const dynamics::Inertia& I = model.moving[i].inertia;
+      MovingBodyData::ContactMomentum& m = S.momentum[s];
+      m = startMomentum(I, b, lambda);
+      S.v_start[s] = velocity_W(m);
+      kickMomentum(model, b, I, m);
+      S.kicked_B[s] = bodyVelocity(I, b.state.M_WB.rotation(), m, lambda);
+      S.bodies[s] = solverBody(model, b.state, S.kicked_B[s], i);
+      S.bodies[s].v = velocity_W(m);
       continue;
     }
     // A link: its velocity moves with its tree's ν, so it has no mass of its own here.
@@ -256,20 +269,22 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
     if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
   }
 
-  // The impulses act on the states as CGA impulses: ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,
-  // doc/conventions.md (E17)), after the loads' kick.
-  std::vector<cga::Moment>& T = S.impulse_B;
-  T.assign(S.bodies.size(), cga::Moment());
+  // The impulses act on the bodies as CGA impulses, ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,
+  // doc/conventions.md (E17)), after the loads' kick: in world axes, T_imp adds its force to
+  // the momentum and its moment about the centre to the angular momentum (contact_momentum.h).
+  S.impulse_W.assign(S.bodies.size(), Eigen::Vector3d::Zero());
+  S.impulse_moment_W.assign(S.bodies.size(), Eigen::Vector3d::Zero());
   for (std::size_t k = 0; k < kept; ++k) {
     const ContactRow& r = S.rows[k];
     const Eigen::Vector3d P = r.lambda_n * r.n + r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
     const Eigen::Vector3d& p = S.found[k].point_W;
-    for (int side = 0; side < 2; ++side) {
-      const int s = side ? r.b : r.a;
-      if (s < 0) continue;
-      const dynamics::BodyState& st = data.bodies[S.moving_of_slot[s]].state;
-      T[s] += dynamics::impulseMoment_B(st, cga::Force(side ? Eigen::Vector3d(-P) : P, 0.0), p,
-                                        Eigen::Vector3d::Zero(), lambda);
+    if (r.a >= 0) {
+      S.impulse_W[r.a] += P;
+      S.impulse_moment_W[r.a] += (p - S.bodies[r.a].x).cross(P);
+    }
+    if (r.b >= 0) {
+      S.impulse_W[r.b] -= P;
+      S.impulse_moment_W[r.b] -= (p - S.bodies[r.b].x).cross(P);
     }
   }
   // The common normal of each slot's contacts (NaN: they differ, or one is an impact or a gap
@@ -303,10 +318,13 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
     MovingBodyData& b = data.bodies[i];
     const dynamics::Inertia& I = model.moving[i].inertia;
     const cga::Bivelocity omega_start = b.state.omega_B;
-    const Eigen::Vector3d v_start = dynamics::comVelocity_W(b.state, lambda);
+    const Eigen::Vector3d& v_start = S.v_start[s];
     const Eigen::Vector3d x_start = dynamics::comPosition_W(b.state, lambda);
-    b.state.omega_B = S.kicked_B[s] + I.solve(T[s], lambda);
-    const Eigen::Vector3d v_end = dynamics::comVelocity_W(b.state, lambda);
+    MovingBodyData::ContactMomentum& m = S.momentum[s];
+    addCompensated(m.v_hi, m.v_lo, S.impulse_W[s] / I.mass());
+    addCompensated(m.L_hi, m.L_lo, S.impulse_moment_W[s]);
+    b.state.omega_B = bodyVelocity(I, b.state.M_WB.rotation(), m, lambda);
+    const Eigen::Vector3d v_end = velocity_W(m);
     b.contact_shift_W.setZero();
     if (common[s].allFinite() && !common[s].isZero(0.0)) {
       const Eigen::Vector3d dv = v_start - v_end;
@@ -323,7 +341,11 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
       if (dU > 0) {
         const double T_end = I.kineticEnergy(b.state.omega_B, lambda);
         f = std::min(1.0, 0.5 * T_end / dU);
-        if (T_end > 0) b.state.omega_B = std::sqrt(1.0 - f * dU / T_end) * b.state.omega_B;
+        if (T_end > 0) {
+          const double k = std::sqrt(1.0 - f * dU / T_end);
+          b.state.omega_B = k * b.state.omega_B;
+          m.v_hi *= k, m.v_lo *= k, m.L_hi *= k, m.L_lo *= k;
+        }
       }
       const Eigen::Vector3d dr = f * h * sb.pw;
       const double angle = dr.norm();
@@ -331,9 +353,11 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
       if (angle > 0) R = Eigen::Quaterniond(Eigen::AngleAxisd(angle, dr / angle)) * R;
       x += f * h * sb.pv;
       b.state.M_WB = cga::Motor::fromPose(R.normalized(), x, lambda);
+      // Ω_B turns with the body (as a CGA impulse would leave it), so the correction's turn
+      // keeps the kinetic energy; the carried momentum starts again from the turned state.
+      if (angle > 0) m = stateMomentum(I, b.state, lambda);
     }
-    const Eigen::Vector3d x_end =
-        x + h * dynamics::comVelocity_W(b.state, lambda) + b.contact_shift_W;
+    const Eigen::Vector3d x_end = x + h * velocity_W(m) + b.contact_shift_W;
     double work = 0.0;
     if (b.loads.hasApplied()) {
       const cga::Moment T_applied = b.loads.appliedMoment_B(b.state.M_WB, lambda);
@@ -343,6 +367,9 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
     dissipated += I.kineticEnergy(omega_start, lambda) - I.kineticEnergy(b.state.omega_B, lambda) +
                   I.mass() * g.dot(x_end - x_start) + work;
     b.contact_step = MovingBodyData::ContactStep::kDrift;
+    b.contact_momentum = m;
+    b.contact_momentum.valid = false;
+    b.contact_momentum.pending = true;
     b.integrator->reset();
   }
   data.dissipated_energy += dissipated;

@@ -4,6 +4,7 @@
 #include "cga_rigid_sim/dynamics/at_rest.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "coasting.h"
+#include "contact_momentum.h"
 #include "curved_bodies.h"
 
 namespace cga_rigid_sim {
@@ -29,6 +30,7 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
     }
     if (b.contact_step == MovingBodyData::ContactStep::kDone) {
       b.contact_step = MovingBodyData::ContactStep::kNone;
+      b.contact_momentum.pending = false;
       b.last_path = StepPath::kStepped;
       continue;
     }
@@ -37,26 +39,30 @@ void integrateRange(void* context, std::size_t begin, std::size_t end) {
       b.contact_step = MovingBodyData::ContactStep::kNone;
       const bool rest = b.state.omega_B.rot.isZero(0.0) && b.state.omega_B.trans.isZero(0.0);
       b.last_path = rest ? StepPath::kAtRest : StepPath::kStepped;
-      const Eigen::Quaterniond r0 = b.state.M_WB.rotation();
-      const Eigen::Vector3d v0 = b.state.omega_B.trans;
       if (!rest) b.integrator->step(model.moving[i].inertia, kNoLoads, lambda, h, b.state);
       b.integrator->reset();  // its caches hold the drift, not the body's loaded path
       // A body in contact drifts from a fresh anchor every step, so what a step rounds is
-      // carried into the next (doc/contacts.md#drift):
-      // - the rotor is renormalised as r + e r, e = (1 − |r|²)/2, whose roundings are unbiased
-      //   (r/|r| came out 0.44 ε too long on average, and the velocity grew with it);
-      // - v_W is constant in a torque-free drift, so v_B is turned by the step's own rotor d =
-      //   r̃0 r1 (v_B1 = R̃(d) v_B0) instead of going to the world and back through the whole
-      //   attitude: a formula's error for a rotor of norm n is (n − 1)(R v − v), small for the
-      //   small turn of one step, of the order of |v| for the attitude.
+      // carried into the next (doc/contacts.md#drift): the rotor is renormalised as r + e r,
+      // e = (1 − |r|²)/2, whose roundings are unbiased (r/|r| came out 0.44 ε too long on
+      // average), and Ω_B is read off the momentum the body carries in world axes, which the
+      // torque-free drift keeps (contact_momentum.h), rather than carried in body axes.
       if (!rest || !b.contact_shift_W.isZero(0.0)) {
         Eigen::Quaterniond r1 = b.state.M_WB.rotation();
         r1.coeffs() += (0.5 * (1.0 - r1.coeffs().squaredNorm())) * r1.coeffs();
-        if (!rest) b.state.omega_B.trans = (r0.conjugate() * r1).conjugate() * v0;
         b.state.M_WB =
             cga::Motor::fromPose(r1, b.state.M_WB.translation(lambda) + b.contact_shift_W, lambda);
         b.contact_shift_W.setZero();
         b.last_path = StepPath::kStepped;
+      }
+      MovingBodyData::ContactMomentum& m = b.contact_momentum;
+      if (m.pending) {
+        if (!rest)
+          b.state.omega_B =
+              bodyVelocity(model.moving[i].inertia, b.state.M_WB.rotation(), m, lambda);
+        m.key_omega_B = b.state.omega_B;
+        m.key_r = b.state.M_WB.rotation().coeffs();
+        m.valid = true;
+        m.pending = false;
       }
       continue;
     }

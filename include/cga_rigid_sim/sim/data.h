@@ -55,6 +55,20 @@ struct MovingBodyData {
   /// plane when every contact of the body shares one normal, so its sliding is trapezoidal
   /// (doc/contacts.md#time-stepping); zero otherwise.
   Eigen::Vector3d contact_shift_W = Eigen::Vector3d::Zero();
+  /// A body in contact carries its momentum from one contact step to the next in world axes
+  /// (src/sim/contact_momentum.h, doc/contacts.md#world-momentum): its centre's velocity and its
+  /// angular momentum about the centre, each a compensated sum hi + lo. It holds while the state
+  /// is the one the last contact drift left (the key); anything else that changes the state
+  /// makes the next contact step start again from the state.
+  struct ContactMomentum {
+    Eigen::Vector3d v_hi = Eigen::Vector3d::Zero(), v_lo = Eigen::Vector3d::Zero();  ///< m/s
+    Eigen::Vector3d L_hi = Eigen::Vector3d::Zero(), L_lo = Eigen::Vector3d::Zero();  ///< N m s
+    cga::Bivelocity key_omega_B;                      ///< the Ω_B the drift left
+    Eigen::Vector4d key_r = Eigen::Vector4d::Zero();  ///< its rotor's coefficients
+    bool valid = false;    ///< set by the drift: the key is the state it left
+    bool pending = false;  ///< set by the contacts stage: this step's drift reads Ω_B off it
+  };
+  ContactMomentum contact_momentum;
   /// Coasting (src/sim/coasting.h): while a body's motion is a closed form in the elapsed time
   /// (its integrator coasts() under its loads) and nothing else acts on it, it takes no step;
   /// `state` is then evaluated from `from` and the steps since, when it is read. Whether it
