@@ -463,33 +463,53 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
       }
     }
     // K = Σ (1/m) 1 − [r]× I⁻¹ [r]× over the movable bodies, + J M⁻¹ Jᵀ over the tree sides:
-    // the velocity change at the point per unit impulse there.
-    Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+    // the velocity change at the point per unit impulse there. In the contact basis
+    // B = (n, t1, t2) a body's part is Kc_ij = δ_ij / m + (r × b_i)ᵀ I⁻¹ (r × b_j), and
+    // K n = n / m − r × I⁻¹ (r × n): three lever arms and their responses, not 3 × 3 products.
+    Eigen::Matrix3d Kc = Eigen::Matrix3d::Zero();
+    c.k_n.setZero();
     for (int side = 0; side < 2; ++side) {
       const int s = side ? c.b : c.a;
       if (s < 0) continue;
-      const Eigen::Matrix3d R = crossMatrix(side ? c.rb : c.ra);
-      K += bodies[s].inv_mass * Eigen::Matrix3d::Identity() - R * bodies[s].inv_inertia * R;
+      const Eigen::Vector3d& r = side ? c.rb : c.ra;
+      const Eigen::Matrix3d& Iinv = bodies[s].inv_inertia;
+      const Eigen::Vector3d rn = r.cross(c.n), r1 = r.cross(c.t1), r2 = r.cross(c.t2);
+      const Eigen::Vector3d In = Iinv * rn, I1 = Iinv * r1, I2 = Iinv * r2;
+      const double m = bodies[s].inv_mass;
+      Kc(0, 0) += m + rn.dot(In);
+      Kc(0, 1) += rn.dot(I1);
+      Kc(0, 2) += rn.dot(I2);
+      Kc(1, 1) += m + r1.dot(I1);
+      Kc(1, 2) += r1.dot(I2);
+      Kc(2, 2) += m + r2.dot(I2);
+      c.k_n += m * c.n - r.cross(In);
     }
-    if (c.ta >= 0) {
-      c.wa = c.ja.transpose();
-      trees[c.ta].llt.solveInPlace(c.wa);
-      K.noalias() += c.ja * c.wa;
+    if (c.ta >= 0 || c.tb >= 0) {
+      Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+      if (c.ta >= 0) {
+        c.wa = c.ja.transpose();
+        trees[c.ta].llt.solveInPlace(c.wa);
+        K.noalias() += c.ja * c.wa;
+      }
+      if (c.tb >= 0) {
+        c.wb = c.jb.transpose();
+        trees[c.tb].llt.solveInPlace(c.wb);
+        K.noalias() += c.jb * c.wb;
+      }
+      Eigen::Matrix3d B;
+      B << c.n, c.t1, c.t2;
+      Kc += B.transpose() * K * B;  // its upper triangle is kept
+      c.k_n += K * c.n;
     }
-    if (c.tb >= 0) {
-      c.wb = c.jb.transpose();
-      trees[c.tb].llt.solveInPlace(c.wb);
-      K.noalias() += c.jb * c.wb;
-    }
-    Eigen::Matrix3d B;
-    B << c.n, c.t1, c.t2;
-    const Eigen::Matrix3d Kc = B.transpose() * K * B;
-    c.k_n = K * c.n;
+    Kc(1, 0) = Kc(0, 1);
+    Kc(2, 0) = Kc(0, 2);
+    Kc(2, 1) = Kc(1, 2);
+    const double trace = Kc.trace();  // K's: B is orthonormal
     // A free body's K is positive definite; a tree side's J M⁻¹ Jᵀ has the rank of the motions
     // the link can make at the point (one for a pendulum's bob): directions it cannot move in
     // get no impulse (their inverse is taken as zero, their k as infinite), and an impulse
     // that could only act along them is none. Round-off decides below 1e-12 of K's trace.
-    const double cutoff = 1e-12 * K.trace();
+    const double cutoff = 1e-12 * trace;
     const double inf = std::numeric_limits<double>::infinity();
     c.k_nn = Kc(0, 0) > cutoff ? Kc(0, 0) : inf;
     const double tr = Kc(1, 1) + Kc(2, 2), det = Kc(1, 1) * Kc(2, 2) - Kc(1, 2) * Kc(2, 1);
