@@ -60,6 +60,7 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
     S.land_slot_b.assign(S.land_found.size(), -1);
     SolverSettings st = settings;
     st.h = rest;
+    st.kinetic_energy = true;
     prepareRows(S.land_found, S.land_bodies, S.land_trees, S.land_slot_a, S.land_slot_b,
                 S.land_rows);
     for (ContactRow& r : S.land_rows) {

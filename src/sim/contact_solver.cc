@@ -685,14 +685,14 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
   work.vel_start[n] = Twist();
   std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
   for (SolverTree& t : trees) t.nu_start = t.nu;
-  stats.kinetic_before = kineticEnergy(bodies, trees);
+  if (st.kinetic_energy) stats.kinetic_before = kineticEnergy(bodies, trees);
   for (const SolverWork::Island& I : work.islands)
     stats.iterations = std::max(stats.iterations, solveIsland(st, bodies, trees, rows, work, I));
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].v = work.vel[s].v;
     bodies[s].w = work.vel[s].w;
   }
-  stats.kinetic_after = kineticEnergy(bodies, trees);
+  if (st.kinetic_energy) stats.kinetic_after = kineticEnergy(bodies, trees);
   return stats;
 }
 

@@ -123,6 +123,8 @@ struct SolverSettings {
   /// … plus this fraction of the fastest contact point's speed in the island beyond twice the
   /// kick: 1e-9 relative accuracy while its bodies move fast, nothing added once they rest.
   double tolerance_of_speed = 1e-9;
+  /// Fill SolveStats' kinetic energies (the landings book theirs; the step's solve does not).
+  bool kinetic_energy = false;
 };
 
 /// The solver's working arrays, kept between steps so that a step allocates only when the
@@ -199,7 +201,7 @@ inline Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& r) {
 
 struct SolveStats {
   int iterations = 0;  ///< the sweeps of the island that took the most
-  double kinetic_before = 0.0, kinetic_after = 0.0;
+  double kinetic_before = 0.0, kinetic_after = 0.0;  ///< with SolverSettings::kinetic_energy
 };
 
 /// Fills the rows' geometry (arms, basis, K, targets) from the contacts and the bodies.

@@ -248,10 +248,12 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   // Warm start from last step's impulses of the same contacts.
   S.previous.resize(data.contacts.size());
   for (std::size_t k = 0; k < S.previous.size(); ++k) S.previous[k] = k;
-  std::sort(S.previous.begin(), S.previous.end(), [&data](std::size_t x, std::size_t y) {
+  const auto byPair = [&data](std::size_t x, std::size_t y) {
     return pairKey(data.contacts[x]) < pairKey(data.contacts[y]) ||
            (pairKey(data.contacts[x]) == pairKey(data.contacts[y]) && x < y);
-  });
+  };
+  if (!std::is_sorted(S.previous.begin(), S.previous.end(), byPair))  // detection's order mostly is
+    std::sort(S.previous.begin(), S.previous.end(), byPair);
   for (std::size_t k = 0; k < kept; ++k) {
     ContactRow& r = S.rows[k];
     r.lambda_n = 0.0;
