@@ -59,7 +59,7 @@ else
     python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros
     libsensor-msgs-dev python3-sensor-msgs ros-sensor-msgs
     ros-robot-state-publisher  # test/ros/robot_state_publisher.test
-    libvisualization-msgs-dev rviz
+    libvisualization-msgs-dev python3-visualization-msgs rviz  # rviz.test reads ~markers in Python
     libfcl-dev)  # FCL 0.7: collision detection for contacts
 fi
 
