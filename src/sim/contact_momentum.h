@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "cga_rigid_sim/dynamics/derived.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/sim/data.h"
 
@@ -35,13 +36,12 @@ inline bool carriesMomentum(const MovingBodyData& b) {
          m.key_r == b.state.M_WB.rotation().coeffs();
 }
 
-/// The momentum of a state: v_W = R v_B, L_W = R (J ∘ w_B); lo = 0.
+/// The momentum of a state: v_W = R v_B, L_W = R (J ∘ w_B) (dynamics/derived.h); lo = 0.
 inline MovingBodyData::ContactMomentum stateMomentum(const dynamics::Inertia& I,
                                                      const dynamics::BodyState& s, double lambda) {
   MovingBodyData::ContactMomentum m;
-  const Eigen::Quaterniond& R = s.M_WB.rotation();
-  m.v_hi = R * s.omega_B.linear(lambda);
-  m.L_hi = R * I.principalMoments().cwiseProduct(s.omega_B.angular()).eval();
+  m.v_hi = dynamics::comVelocity_W(s, lambda);
+  m.L_hi = dynamics::angularMomentumCom_W(I, s);
   return m;
 }
 
