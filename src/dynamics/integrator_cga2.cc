@@ -235,6 +235,20 @@ CGA_ALWAYS_INLINE void renormalise(BodyState& s) {
 // and the composed rotor ρ = 1 + f.d:
 //   M ← M T_B(τ λ u0) ρ,  i.e.  r ← r ρ,  q ← (q + r ⊗ (0, −½ τ u0)) ρ,
 // and u0 turned into the new body axes (it is world-fixed during the flow).
+// With loads whose force is fixed in the world, the drift's velocity (the mean over the flow, in
+// the start's axes) and the one turned into the end's axes differ: `u_drift` and `u`.
+CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_drift, double* u,
+                                   BodyState& s) {
+  const Quat r = toQuat(s.M_WB.rotorQuaternion());
+  Quat q = toQuat(s.M_WB.dualQuaternion());
+  const double k = -0.5 * tau;
+  const Quat rb = mul(r, Quat{0.0, k * u_drift[0], k * u_drift[1], k * u_drift[2]});
+  q = {q.w + rb.w, q.x + rb.x, q.y + rb.y, q.z + rb.z};
+  const Quat rd = mul(r, d), qd = mul(q, d);
+  s.M_WB = cga::Motor::fromQuaternions(toEigen({r.w + rd.w, r.x + rd.x, r.y + rd.y, r.z + rd.z}),
+                                       toEigen({q.w + qd.w, q.x + qd.x, q.y + qd.y, q.z + qd.z}));
+  turnInto(d, u);
+}
 CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, BodyState& s) {
   const Quat r = toQuat(s.M_WB.rotorQuaternion());
   Quat q = toQuat(s.M_WB.dualQuaternion());
@@ -263,6 +277,17 @@ struct StepLoads {
   }
 };
 
+// The general kick (loads at points of the body, or in its axes): the loads' moment at the pose.
+// Out of line: kept out of the hot paths' register allocation.
+__attribute__((noinline)) void kickByMoment(const Inertia& inertia, const Loads& loads,
+                                            double lambda, double tau, const Cache& cache,
+                                            BodyState& s) {
+  const double m = inertia.mass();
+  const cga::Moment T = loads.moment_B(m, s.M_WB, lambda);
+  s.omega_B.rot += tau * T.rot.cwiseProduct(cache.inv_J);
+  s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
+}
+
 // K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose (Loads::moment_B: one
 // rotation into the body for all world-axes parts): (I∧n)⁻¹ (τ_B, λ f_B) = (τ_B/J, f_B/(m λ)).
 CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads, double lambda,
@@ -282,9 +307,75 @@ CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads,
       s.omega_B.trans += (tau / (m * lambda)) * Loads::toBody(r, step_loads.f_W);
     return;
   }
-  const cga::Moment T = loads.moment_B(m, s.M_WB, lambda);
-  s.omega_B.rot += tau * T.rot.cwiseProduct(cache.inv_J);
-  s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
+  kickByMoment(inertia, loads, lambda, tau, cache, s);
+}
+
+// The composition when every load is a world-axes sum at the centre (gravity alone, or
+// Loads::worldSums): force F_W and couple c_W fixed in the world for the step. The centre's
+// motion then does not depend on the turning: in the axes the body had at the step's start,
+// its velocity changes by the kicks' constant a = R̃ F_W/(m λ) (one rotation per step), the
+// drifts of the stages add up to the exact parabola h u0 + ½ h² a whatever the γ (Σγ = 1, every
+// stage's drift sits halfway between its kicks), and the velocity at the end is u0 + h a
+// turned into the end's axes by the step's rotor. The turning alone sees the couple: without one
+// it is the free path's (one C(h), the pieces merged into one rotor); with one, each stage's flow
+// and its kick run in turn, the couple is carried in body axes like v_B (turned by each stage's
+// rotor) and the stages' rotors are composed, so that the motor is updated once per step.
+template <int S>
+CGA_ALWAYS_INLINE void composeWorldLoads(const Inertia& inertia, const StepLoads& step_loads,
+                                         double lambda, double h, const double* gamma,
+                                         const Cache& cache, BodyState& state) {
+  renormalise(state);
+  const Eigen::Quaterniond& r0 = state.M_WB.rotorQuaternion();
+  double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
+  double u_drift[3] = {u[0], u[1], u[2]};
+  const bool gravity_only = !step_loads.loads.hasApplied();
+  if (gravity_only || step_loads.has_force) {
+    const Eigen::Vector3d a =
+        gravity_only ? Loads::toBody(r0, step_loads.loads.gravity()) * (h / lambda)
+                     : Loads::toBody(r0, step_loads.f_W) * (h / (inertia.mass() * lambda));
+    for (int j = 0; j < 3; ++j) {
+      u_drift[j] += 0.5 * a[j];
+      u[j] += a[j];
+    }
+  }
+  Quat d;
+  double* w = state.omega_B.rot.data();
+  if (gravity_only || !step_loads.has_couple) {
+    FreeFlow f = beginFreeFlow(h, cache, w);
+    rotatePiece<kA>(0.5 * gamma[0] * h * cache.kappa[kA], cache.ratio, f);
+#pragma GCC unroll 8
+    for (int i = 0; i < S; ++i) {
+      const double tau = gamma[i] * h;
+      rotatePiece<kB>(tau * cache.kappa[kB], cache.ratio, f);
+      rotatePiece<kA>(0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)) * cache.kappa[kA],
+                      cache.ratio, f);
+    }
+    for (int j = 0; j < 3; ++j) w[j] = f.w[j];
+    d = f.d;
+  } else {
+    Eigen::Vector3d c = Loads::toBody(r0, step_loads.couple_W);
+    const Eigen::Vector3d& inv_J = cache.inv_J;
+    double tau_kick = 0.5 * gamma[0] * h;
+#pragma GCC unroll 8
+    for (int i = 0; i < S; ++i) {
+      for (int j = 0; j < 3; ++j) w[j] += tau_kick * (c[j] * inv_J[j]);
+      const double tau = gamma[i] * h;
+      FreeFlow f = beginFreeFlow(tau, cache, w);
+      stagePieces(tau, cache, f);
+      for (int j = 0; j < 3; ++j) w[j] = f.w[j];
+      turnInto(f.d, c.data());
+      if (i == 0) {
+        d = f.d;
+      } else {
+        const Quat dd = mul(d, f.d);
+        d = {d.w + f.d.w + dd.w, d.x + f.d.x + dd.x, d.y + f.d.y + dd.y, d.z + f.d.z + dd.z};
+      }
+      tau_kick = 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0));
+    }
+    for (int j = 0; j < 3; ++j) w[j] += tau_kick * (c[j] * inv_J[j]);
+  }
+  endFreeFlow(d, h, u_drift, u, state);
+  for (int j = 0; j < 3; ++j) state.omega_B.trans[j] = u[j];
 }
 
 // The composition for a fixed number of stages S (unrolled).
@@ -315,6 +406,10 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
     return;
   }
   const StepLoads step_loads(loads, inertia.mass());
+  if (!loads.hasApplied() || (step_loads.world_sums && (S > 1 || !step_loads.has_couple))) {
+    composeWorldLoads<S>(inertia, step_loads, lambda, h, gamma, cache, state);
+    return;
+  }
   renormalise(state);
   kick(inertia, step_loads, lambda, 0.5 * gamma[0] * h, cache, state);
 #pragma GCC unroll 8

@@ -103,16 +103,22 @@ void literalStep(const Inertia& I, const Loads& loads, double lambda, double h, 
 // checks against the reference algebra). The fast step merges the drifts, composes the rotors
 // sparsely and sums the series itself: the two differ by round-off only. Per step each motor
 // coefficient (size ≤ |x|/λ ≈ 3) carries a few ε; after 100 steps (errors random) the bound
-// 1e-12 absolute is ≈ 20× the expected ~5e-14. Three kinds of loads: none, general ones (a
-// world push off the centre, a body-axes thruster), and world-axes loads at the centre only
-// (the kicks' world-sums path).
+// 1e-12 absolute is ≈ 20× the expected ~5e-14. Five kinds of loads: none, general ones (a
+// world push off the centre, a body-axes thruster), world-axes loads at the centre with a couple
+// (the kicks' world-sums path), and gravity alone or with a world push through the centre (the
+// centre's parabola in closed form, the turning free).
 TEST(Cga2, StepIsTheDocumentedSplittingOfExactMotorExponentials) {
   testing::Rng rng(7);
-  for (int trial = 0; trial < 9; ++trial) {
-    const int kind = trial % 3;
+  for (int trial = 0; trial < 10; ++trial) {
+    const int kind = trial % 5;
     const double lambda = trial < 5 ? 1.0 : 2.5;
     const Inertia I = principal(Vector3d(0.7, 1.1, 1.6) + rng.vec(0.2).cwiseAbs(), 1.7);
-    const Loads loads = kind == 0 ? Loads() : kind == 1 ? someLoads() : worldLoadsAtTheCentre();
+    Loads loads = kind == 0 ? Loads() : kind == 1 ? someLoads() : worldLoadsAtTheCentre();
+    if (kind >= 3) {
+      loads = Loads();
+      loads.setGravity(Vector3d(0.3, -0.1, -9.81));
+      if (kind == 4) loads.add(testing::appliedLoad(Axes::kWorld, Vector3d(1, -2, 0.5)));
+    }
     BodyState fast;
     fast.M_WB = rng.motor(2.0, lambda);
     fast.omega_B = cga::Bivelocity::fromVelocities(rng.vec(3.0), rng.vec(2.0), lambda);

@@ -38,13 +38,22 @@ Loads someLoads() {
 
 // Truth: the definition, S(a h) S((1 − 2a) h) S(a h) with S = one cga2 step and
 // a = 1/(2 − 2^(1/3)) (Yoshida's triple jump). cga4 merges the adjacent kicks (two kicks at the
-// same pose add exactly in exact arithmetic) and, without loads, all drifts and rotors: the two
-// differ by round-off. 50 steps, state of size ~5: bound 1e-12.
+// same pose add exactly in exact arithmetic) and, without loads, all drifts and rotors; with
+// world-axes loads at the centre it moves the centre once per step on the parabola and carries
+// the couple through the stages: the two differ by round-off. 50 steps, state of size ~5: bound
+// 1e-12. Loads: none, general ones (a push off the centre, a body-axes couple), gravity alone,
+// gravity with a world push and a world couple at the centre.
 TEST(Cga4, StepIsTheTripleJumpOfCga2Steps) {
   const double a = 1.0 / (2.0 - std::cbrt(2.0));
   testing::Rng rng(5);
-  for (bool loaded : {false, true}) {
-    const Loads loads = loaded ? someLoads() : Loads();
+  for (int loaded = 0; loaded < 4; ++loaded) {
+    Loads loads = loaded == 1 ? someLoads() : Loads();
+    if (loaded >= 2) loads.setGravity(Vector3d(0.2, 0.1, -9.81));
+    if (loaded == 3) {
+      loads.add(testing::appliedLoad(Axes::kWorld, Vector3d(1, -2, 0.5)));
+      loads.add(testing::appliedLoad(Axes::kWorld, Vector3d::Zero(), Vector3d::Zero(),
+                                     Vector3d(0.3, -0.5, 0.2)));
+    }
     const Inertia I = principal(Vector3d(0.6, 1.0, 1.3), 1.4);
     BodyState fast;
     fast.M_WB = rng.motor(2.0, 1.0);

@@ -59,8 +59,15 @@ struct Cache {
 /// (γ_1 is applied first). Adjacent kicks are merged; when the body has no loads, all the free
 /// flows merge into one drift by h v_B, one C(h) (C commutes with the axis parts) and one rotor
 /// (adjacent R1 pieces merge), so a composition of s stages costs 2s + 1 axis rotations and one
-/// rotation about L_B. cga2 is s = 1, γ = {1}; cga4 composes three stages (s = 1 and 3 are
-/// merged; other s run stage by stage). Requires Σγ = 1 for the drift merge.
+/// rotation about L_B. When every load is a world-axes load at the centre of mass (gravity,
+/// pushes through the centre, couples: Loads::worldSums), the centre's motion does not depend on
+/// the turning and is done once per step in closed form (the composition's drifts add up to the
+/// exact parabola for any γ with Σγ = 1); without a couple the turning is then the free one
+/// (merged as above), with one the stages' flows and kicks alternate with the couple carried in
+/// body axes and the motor updated once per step (for s > 1; cga2 with a couple kicks at the
+/// pose, which measured faster for one stage). cga2 is s = 1, γ = {1}; cga4 composes three
+/// stages (s = 1 and 3 are merged; other s run stage by stage). Requires Σγ = 1 for the drift
+/// merge.
 void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, double h,
                    const double* gamma, int stages, Cache& cache, BodyState& state);
 
