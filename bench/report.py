@@ -418,21 +418,30 @@ def target_auto_floor(rows, cases):
             "<br>".join(parts))
 
 
-def target_cga4(rows):
+def target_cga4(rows, cases):
+    """Accuracy on the tennis racket, cost on every case (issue 12: "cga4 <= 150 ns ... on
+    every case including a world-axes couple")."""
     r = row_at(rows, "tennis_racket", OURS, "cga4", H_TABLE)
     if r is None:
         return ("not measured", "no cga4 row at h = 1 ms", "")
+    vals = []
+    for c in cases:
+        rc = row_at(rows, c, OURS, "cga4", H_TABLE)
+        if rc is not None:
+            vals.append((rc["ns"], c, rc.get("cpu")))
+    worst = max(vals)
     e_ok = ok(r) and r["ang"] <= 1e-7
-    t_ok = r["ns"] <= 150
+    t_ok = worst[0] <= 150
     how = []
     if not e_ok:
         how.append("error %.3g× the target" % (r["ang"] / 1e-7))
     if not t_ok:
-        how.append("%.0f%% over 150 ns" % (100 * (r["ns"] / 150 - 1)))
+        how.append("worst %.0f%% over 150 ns (%s)" % (100 * (worst[0] / 150 - 1), worst[1]))
+    detail = ", ".join("%s %s%s" % (c, fmt_ns(v), cpu_note(cpu)) for v, c, cpu in vals)
     return ("met" if e_ok and t_ok else "missed",
-            "%s rad at %s ns/step%s" % (fmt_err(r["ang"], r["blew"]), fmt_ns(r["ns"]),
-                                        cpu_note(r.get("cpu"))),
-            "; ".join(how))
+            "tennis racket %s rad; worst %s ns/step (%s)%s" % (
+                fmt_err(r["ang"], r["blew"]), fmt_ns(worst[0]), worst[1], cpu_note(worst[2])),
+            ("; ".join(how) + "<br>" if how else "") + "per case: " + detail)
 
 
 def target_cga2(rows, cases):
@@ -765,8 +774,8 @@ def main():
     tgt = [
         ("T1", "auto on every torque-free case at the conditioning floor at every step, "
                "≤ 150 ns/step", target_auto_floor(rows, cases)),
-        ("T2", "cga4 at h = 1 ms ≤ 1e-7 rad on the tennis racket at ≤ 150 ns/step",
-         target_cga4(rows)),
+        ("T2", "cga4 at h = 1 ms ≤ 1e-7 rad on the tennis racket, ≤ 150 ns/step on every case",
+         target_cga4(rows, case_names)),
         ("T3", "cga2 ≤ 60 ns/step (every case, h = 1 ms)", target_cga2(rows, case_names)),
         ("T4", "lower orientation error than every peer at equal ns/step",
          target_vs_peers(rows, cases)),
@@ -783,7 +792,7 @@ def main():
                          in tgt], ["l", "l", "l", "l", "l"]))
     doc.append("")
     doc += ["How each is judged: **T1** error ≤ %g× the case's conditioning floor at every h, "
-            "and the slowest h ≤ 150 ns/step; **T2, T3** at h = 1 ms (T3 on every case); "
+            "and the slowest h ≤ 150 ns/step; **T2, T3** at h = 1 ms, the cost on every case; "
             "**T4** every peer point (h, ns/step, error) against our lowest error among all our "
             "runs (any integrator, any h) that cost at most as much; points where the peer is "
             "at ≥ %g rad and we are no better are not counted (neither tracks the attitude); "
