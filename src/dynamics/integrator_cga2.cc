@@ -321,18 +321,17 @@ CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads,
 // and its kick run in turn, the couple is carried in body axes like v_B (turned by each stage's
 // rotor) and the stages' rotors are composed, so that the motor is updated once per step.
 template <int S>
-CGA_ALWAYS_INLINE void composeWorldLoads(const Inertia& inertia, const StepLoads& step_loads,
-                                         double lambda, double h, const double* gamma,
-                                         const Cache& cache, BodyState& state) {
-  renormalise(state);
+CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double accel_scale,
+                                         const Eigen::Vector3d* couple_W, double h,
+                                         const double* gamma, const Cache& cache,
+                                         BodyState& state) {
+  // The centre's acceleration over λ in the start's axes, times h: accel_scale · R̃ accel_W.
+  // Taken from the rotor before this step's renormalisation (which scales it by 1 + O(ε)).
   const Eigen::Quaterniond& r0 = state.M_WB.rotorQuaternion();
   double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
   double u_drift[3] = {u[0], u[1], u[2]};
-  const bool gravity_only = !step_loads.loads.hasApplied();
-  if (gravity_only || step_loads.has_force) {
-    const Eigen::Vector3d a =
-        gravity_only ? Loads::toBody(r0, step_loads.loads.gravity()) * (h / lambda)
-                     : Loads::toBody(r0, step_loads.f_W) * (h / (inertia.mass() * lambda));
+  if (accel_W) {
+    const Eigen::Vector3d a = Loads::toBody(r0, *accel_W) * accel_scale;
     for (int j = 0; j < 3; ++j) {
       u_drift[j] += 0.5 * a[j];
       u[j] += a[j];
@@ -340,7 +339,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Inertia& inertia, const StepLoads
   }
   Quat d;
   double* w = state.omega_B.rot.data();
-  if (gravity_only || !step_loads.has_couple) {
+  if (!couple_W) {
     FreeFlow f = beginFreeFlow(h, cache, w);
     rotatePiece<kA>(0.5 * gamma[0] * h * cache.kappa[kA], cache.ratio, f);
 #pragma GCC unroll 8
@@ -353,7 +352,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Inertia& inertia, const StepLoads
     for (int j = 0; j < 3; ++j) w[j] = f.w[j];
     d = f.d;
   } else {
-    Eigen::Vector3d c = Loads::toBody(r0, step_loads.couple_W);
+    Eigen::Vector3d c = Loads::toBody(r0, *couple_W);
     const Eigen::Vector3d& inv_J = cache.inv_J;
     double tau_kick = 0.5 * gamma[0] * h;
 #pragma GCC unroll 8
@@ -374,6 +373,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Inertia& inertia, const StepLoads
     }
     for (int j = 0; j < 3; ++j) w[j] += tau_kick * (c[j] * inv_J[j]);
   }
+  renormalise(state);
   endFreeFlow(d, h, u_drift, u, state);
   for (int j = 0; j < 3; ++j) state.omega_B.trans[j] = u[j];
 }
@@ -405,9 +405,15 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
     }
     return;
   }
+  if (!loads.hasApplied()) {
+    composeWorldLoads<S>(&loads.gravity(), h / lambda, nullptr, h, gamma, cache, state);
+    return;
+  }
   const StepLoads step_loads(loads, inertia.mass());
-  if (!loads.hasApplied() || (step_loads.world_sums && (S > 1 || !step_loads.has_couple))) {
-    composeWorldLoads<S>(inertia, step_loads, lambda, h, gamma, cache, state);
+  if (step_loads.world_sums && (S > 1 || !step_loads.has_couple)) {
+    composeWorldLoads<S>(
+        step_loads.has_force ? &step_loads.f_W : nullptr, h / (inertia.mass() * lambda),
+        step_loads.has_couple ? &step_loads.couple_W : nullptr, h, gamma, cache, state);
     return;
   }
   renormalise(state);
