@@ -261,6 +261,24 @@ CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, Bod
   turnInto(f.d, u);
 }
 
+// The turning of a step with no torque: one flow of the Casimir part for h (it commutes with
+// every piece) and the axis pieces of all S stages composed into one rotor; the closing R_a of a
+// stage and the opening R_a of the next merge.
+template <int S>
+CGA_ALWAYS_INLINE FreeFlow mergedFreeTurning(double h, const double* gamma, const Cache& cache,
+                                             const double* w) {
+  FreeFlow f = beginFreeFlow(h, cache, w);
+  rotatePiece<kA>(0.5 * gamma[0] * h * cache.kappa[kA], cache.ratio, f);
+#pragma GCC unroll 8
+  for (int i = 0; i < S; ++i) {
+    const double tau = gamma[i] * h;
+    rotatePiece<kB>(tau * cache.kappa[kB], cache.ratio, f);
+    rotatePiece<kA>(0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)) * cache.kappa[kA],
+                    cache.ratio, f);
+  }
+  return f;
+}
+
 // The loads of one step as the kicks need them: when they are all world-axes loads at the
 // centre of mass (gravity, pushes through it, couples: Loads::worldSums), their world sums, formed
 // once per step, so that a kick is one or two rotations into the body and no pass over the loads.
@@ -340,15 +358,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
   Quat d;
   double* w = state.omega_B.rot.data();
   if (!couple_W) {
-    FreeFlow f = beginFreeFlow(h, cache, w);
-    rotatePiece<kA>(0.5 * gamma[0] * h * cache.kappa[kA], cache.ratio, f);
-#pragma GCC unroll 8
-    for (int i = 0; i < S; ++i) {
-      const double tau = gamma[i] * h;
-      rotatePiece<kB>(tau * cache.kappa[kB], cache.ratio, f);
-      rotatePiece<kA>(0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)) * cache.kappa[kA],
-                      cache.ratio, f);
-    }
+    FreeFlow f = mergedFreeTurning<S>(h, gamma, cache, w);
     for (int j = 0; j < 3; ++j) w[j] = f.w[j];
     d = f.d;
   } else {
@@ -384,18 +394,8 @@ void compose(const Inertia& inertia, const Loads& loads, double lambda, double h
              const double* gamma, Cache& cache, BodyState& state) {
   refreshCache(inertia, cache);
   if (loads.empty()) {
-    // No kicks: one drift by h v_B, one flow of the Casimir part for h (it commutes with every
-    // piece), and the axis pieces composed into one rotor; the closing R_a of a stage and the
-    // opening R_a of the next merge.
-    FreeFlow f = beginFreeFlow(h, cache, state.omega_B.rot.data());
-    rotatePiece<kA>(0.5 * gamma[0] * h * cache.kappa[kA], cache.ratio, f);
-#pragma GCC unroll 8
-    for (int i = 0; i < S; ++i) {
-      const double tau = gamma[i] * h;
-      rotatePiece<kB>(tau * cache.kappa[kB], cache.ratio, f);
-      rotatePiece<kA>(0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)) * cache.kappa[kA],
-                      cache.ratio, f);
-    }
+    // No kicks: one drift by h v_B and the merged turning.
+    FreeFlow f = mergedFreeTurning<S>(h, gamma, cache, state.omega_B.rot.data());
     double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
     renormalise(state);
     endFreeFlow(f, h, u, state);
