@@ -248,8 +248,15 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
     return 2;
   }
   std::fprintf(csv, "%s\n", kHeader);
-  // Side file, as the peers write it: the same timing runs in wall and thread-CPU time.
-  const std::string cpu_path = o.out_dir + "/cputime_" + kEngine + ".csv";
+  // Side file, as the peers write it: the same timing runs in wall and thread-CPU time. Beside
+  // --csv when one is given (cputime_<its name>), so that a side run does not overwrite the
+  // report's (bench/report.py reads DIR/cputime_cga_rigid_sim.csv).
+  std::string cpu_path = o.out_dir + "/cputime_" + kEngine + ".csv";
+  if (!o.csv.empty()) {
+    const std::size_t slash = o.csv.find_last_of('/');
+    const std::size_t name = slash == std::string::npos ? 0 : slash + 1;
+    cpu_path = o.csv.substr(0, name) + "cputime_" + o.csv.substr(name);
+  }
   FILE* cpu_csv = std::fopen(cpu_path.c_str(), "w");
   if (cpu_csv) std::fprintf(cpu_csv, "engine,config,case,h,wall_ns_per_step,cpu_ns_per_step\n");
   const double inf = std::numeric_limits<double>::infinity();
