@@ -312,7 +312,10 @@ CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads,
                             double tau, const Cache& cache, BodyState& s) {
   const Loads& loads = step_loads.loads;
   if (!loads.hasApplied()) {
-    // Gravity alone (the common case): the velocity change τ R̃ g.
+    // Gravity alone: the velocity change τ R̃ g. compose() gives gravity alone to
+    // composeWorldLoads, so this is not reached from there; removing it made GCC allocate the
+    // registers of compose<1> differently, and cga2 under a world couple 7 % slower (87 -> 93 ns,
+    // interleaved best of 5), so it stays.
     s.omega_B.trans += (tau / lambda) * Loads::toBody(s.M_WB.rotorQuaternion(), loads.gravity());
     return;
   }
