@@ -250,15 +250,7 @@ CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_dr
   turnInto(d, u);
 }
 CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, BodyState& s) {
-  const Quat r = toQuat(s.M_WB.rotorQuaternion());
-  Quat q = toQuat(s.M_WB.dualQuaternion());
-  const double k = -0.5 * tau;
-  const Quat rb = mul(r, Quat{0.0, k * u[0], k * u[1], k * u[2]});
-  q = {q.w + rb.w, q.x + rb.x, q.y + rb.y, q.z + rb.z};
-  const Quat rd = mul(r, f.d), qd = mul(q, f.d);
-  s.M_WB = cga::Motor::fromQuaternions(toEigen({r.w + rd.w, r.x + rd.x, r.y + rd.y, r.z + rd.z}),
-                                       toEigen({q.w + qd.w, q.x + qd.x, q.y + qd.y, q.z + qd.z}));
-  turnInto(f.d, u);
+  endFreeFlow(f.d, tau, u, u, s);
 }
 
 // The turning of a step with no torque: one flow of the Casimir part for h (it commutes with
