@@ -418,18 +418,27 @@ def target_auto_floor(rows, cases):
             "<br>".join(parts))
 
 
+def cost_per_case(rows, cases, config):
+    """The config's ns/step at h = 1 ms on each case: the (ns, case, cpu) rows, the worst, and
+    the per-case detail text; None when no case has a row."""
+    vals = []
+    for c in cases:
+        r = row_at(rows, c, OURS, config, H_TABLE)
+        if r is not None:
+            vals.append((r["ns"], c, r.get("cpu")))
+    if not vals:
+        return None
+    detail = ", ".join("%s %s%s" % (c, fmt_ns(v), cpu_note(cpu)) for v, c, cpu in vals)
+    return max(vals), "per case: " + detail
+
+
 def target_cga4(rows, cases):
     """Accuracy on the tennis racket, cost on every case (issue 12: "cga4 <= 150 ns ... on
     every case including a world-axes couple")."""
     r = row_at(rows, "tennis_racket", OURS, "cga4", H_TABLE)
     if r is None:
         return ("not measured", "no cga4 row at h = 1 ms", "")
-    vals = []
-    for c in cases:
-        rc = row_at(rows, c, OURS, "cga4", H_TABLE)
-        if rc is not None:
-            vals.append((rc["ns"], c, rc.get("cpu")))
-    worst = max(vals)
+    worst, detail = cost_per_case(rows, cases, "cga4")
     e_ok = ok(r) and r["ang"] <= 1e-7
     t_ok = worst[0] <= 150
     how = []
@@ -437,29 +446,23 @@ def target_cga4(rows, cases):
         how.append("error %.3g× the target" % (r["ang"] / 1e-7))
     if not t_ok:
         how.append("worst %.0f%% over 150 ns (%s)" % (100 * (worst[0] / 150 - 1), worst[1]))
-    detail = ", ".join("%s %s%s" % (c, fmt_ns(v), cpu_note(cpu)) for v, c, cpu in vals)
     return ("met" if e_ok and t_ok else "missed",
             "tennis racket %s rad; worst %s ns/step (%s)%s" % (
                 fmt_err(r["ang"], r["blew"]), fmt_ns(worst[0]), worst[1], cpu_note(worst[2])),
-            ("; ".join(how) + "<br>" if how else "") + "per case: " + detail)
+            ("; ".join(how) + "<br>" if how else "") + detail)
 
 
 def target_cga2(rows, cases):
-    vals = []
-    for c in cases:
-        r = row_at(rows, c, OURS, "cga2", H_TABLE)
-        if r is not None:
-            vals.append((r["ns"], c, r.get("cpu")))
-    if not vals:
+    cost = cost_per_case(rows, cases, "cga2")
+    if cost is None:
         return ("not measured", "no cga2 rows", "")
-    worst = max(vals)
-    detail = ", ".join("%s %s%s" % (c, fmt_ns(v), cpu_note(cpu)) for v, c, cpu in vals)
+    worst, detail = cost
     how = "" if worst[0] <= 60 else "worst %.0f%% over 60 ns (%s)" % (
         100 * (worst[0] / 60 - 1), worst[1])
     return ("met" if worst[0] <= 60 else "missed",
             "worst %s ns/step at h = 1 ms (%s)%s" % (fmt_ns(worst[0]), worst[1],
                                                      cpu_note(worst[2])),
-            (how + "<br>" if how else "") + "per case: " + detail)
+            (how + "<br>" if how else "") + detail)
 
 
 def our_best_at_cost(rows, case, ns_budget):
