@@ -39,10 +39,21 @@ class Loads {
   const Eigen::Vector3d& gravity() const { return g_W_; }
   bool hasGravity() const { return !g_W_.isZero(0.0); }
 
-  void add(const AppliedLoad& load) { applied_.push_back(load); }
+  void add(const AppliedLoad& load) {
+    applied_.push_back(load);
+    // The world sums of worldSums(), kept as loads arrive so that a step reads them in O(1).
+    if (load.axes != Axes::kWorld || !load.point_B.isZero(0.0)) world_at_centre_ = false;
+    f_sum_W_ += load.F.f;
+    couple_sum_W_ += load.couple;
+  }
   /// Room for n applied loads, so that add() does not allocate until there are more.
   void reserveApplied(std::size_t n) { applied_.reserve(n); }
-  void clearApplied() { applied_.clear(); }
+  void clearApplied() {
+    applied_.clear();
+    world_at_centre_ = true;
+    f_sum_W_.setZero();
+    couple_sum_W_.setZero();
+  }
   const std::vector<AppliedLoad>& applied() const { return applied_; }
   bool hasApplied() const { return !applied_.empty(); }
   /// No gravity and no applied load: a free body.
@@ -103,13 +114,9 @@ class Loads {
   /// m g + Σ f and the couple Σ τ (N, N m). moment_B at a pose is then (R̃ couple_W, λ R̃ f_W), so
   /// a splitting can form the sums once per step instead of once per kick. False otherwise.
   bool worldSums(double mass, Eigen::Vector3d& f_W, Eigen::Vector3d& couple_W) const {
-    f_W = mass * g_W_;
-    couple_W.setZero();
-    for (const auto& l : applied_) {
-      if (l.axes != Axes::kWorld || !l.point_B.isZero(0.0)) return false;
-      f_W += l.F.f;
-      couple_W += l.couple;
-    }
+    if (!world_at_centre_) return false;
+    f_W = mass * g_W_ + f_sum_W_;
+    couple_W = couple_sum_W_;
     return true;
   }
   /// R̃ x: a world vector in the axes of the body with rotor r = (w, a), written out
@@ -128,6 +135,11 @@ class Loads {
  private:
   Eigen::Vector3d g_W_ = Eigen::Vector3d::Zero();
   std::vector<AppliedLoad> applied_;
+  // Running sums of the applied loads (add order), and whether all of them are world-axes loads
+  // at the centre of mass (worldSums()).
+  bool world_at_centre_ = true;
+  Eigen::Vector3d f_sum_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d couple_sum_W_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace dynamics
