@@ -8,9 +8,11 @@ namespace splitting {
 namespace {
 
 #define CGA_ALWAYS_INLINE __attribute__((always_inline)) inline
-// compose() below, once for x86-64 as such and once for CPUs with FMA. Off elsewhere, and with
+// compose() below, once for x86-64 as such and once for CPUs with FMA. Off elsewhere, under clang
+// (which does not clone function templates; the fuzz targets build with it), and with
 // -DCGA_RIGID_SIM_NO_FMA_CLONES (to run the tests on the plain clone on a machine with FMA).
-#if defined(__x86_64__) && defined(__ELF__) && !defined(CGA_RIGID_SIM_NO_FMA_CLONES)
+#if defined(__x86_64__) && defined(__ELF__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(CGA_RIGID_SIM_NO_FMA_CLONES)
 #define CGA_FMA_CLONES __attribute__((target_clones("fma", "default")))
 #else
 #define CGA_FMA_CLONES
