@@ -99,7 +99,7 @@ inline void buildAgm(double kp2, FreeFlowCache& c) {
   double a = 1.0, b = std::sqrt(kp2);
   c.agm_levels = 0;
   for (;;) {
-    c.agm[c.agm_levels] = {a, 1.0 / a, b};
+    c.agm_b[c.agm_levels] = b;
     ++c.agm_levels;
     const double mean = 0.5 * (a + b);
     if (std::abs(a - b) <= kTol * a || c.agm_levels == FreeFlowCache::kMaxAgm) {
@@ -111,19 +111,30 @@ inline void buildAgm(double kp2, FreeFlowCache& c) {
   }
 }
 
+// The table keeps b_j only (FreeFlowCache): a_j is re-formed by the AGM's own mean, the same
+// operations as buildAgm, so each a_j and 1/a_j are bit for bit the values it had. This forward
+// pass does not depend on u, so it runs beside the sine and cosine below (a few additions and
+// independent divisions, off the recurrence's chain).
 inline void jacobiSnCnDn(double u, const FreeFlowCache& c, double& sn, double& cn, double& dn) {
+  const int levels = c.agm_levels;
+  double a[FreeFlowCache::kMaxAgm], inv_a[FreeFlowCache::kMaxAgm];
+  a[0] = 1.0;
+  inv_a[0] = 1.0;
+  for (int j = 1; j < levels; ++j) {
+    a[j] = 0.5 * (a[j - 1] + c.agm_b[j - 1]);
+    inv_a[j] = 1.0 / a[j];
+  }
   const double v = u * c.agm_limit;  // |v| ≤ K · agm = π/2
   double s, co, d = 1.0;
   sinCosReduced(v, s, co);
   if (s != 0.0) {
     double ratio = co / s;  // cot v
     double q = c.agm_limit * ratio;
-    for (int j = c.agm_levels - 1; j >= 0; --j) {
+    for (int j = levels - 1; j >= 0; --j) {
       ratio *= q;
       q *= d;
-      const FreeFlowCache::AgmLevel& level = c.agm[j];
-      d = (level.b + ratio) / (level.a + ratio);
-      ratio = q * level.inv_a;
+      d = (c.agm_b[j] + ratio) / (a[j] + ratio);
+      ratio = q * inv_a[j];
     }
     const double r = 1.0 / std::sqrt(q * q + 1.0);
     s = s >= 0.0 ? r : -r;

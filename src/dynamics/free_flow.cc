@@ -14,6 +14,12 @@ namespace dynamics {
 namespace {
 
 using Path = FreeFlowCache::Path;
+
+// The cache is per body (free_flow.h): keep it from growing back unnoticed. 832 bytes on LP64
+// (8-byte double, 16-byte aligned Eigen 4-vectors), where it was 1184 with padding, copies of
+// x_W and v_W and the AGM table's a_j and 1/a_j.
+static_assert(sizeof(void*) != 8 || sizeof(FreeFlowCache) <= 832,
+              "FreeFlowCache grew: it is held per body by the exact and auto integrators");
 using elliptic::buildAgm;
 using elliptic::carlsonRF;
 using elliptic::carlsonRJ;
@@ -437,6 +443,14 @@ inline void setKeys(FreeFlowCache& c, const Eigen::Vector3d& J, const Eigen::Qua
   c.key_lambda = lambda;
 }
 
+// The centre of mass com_steps steps of com_h after its anchor: x_W = x_a + v_a t + ½ g t²,
+// v_W = v_a + g t.
+inline void centreOfMassAt(const FreeFlowCache& c, Eigen::Vector3d& x_W, Eigen::Vector3d& v_W) {
+  const double t = c.com_steps * c.com_h;
+  x_W = c.x_a + c.v_a * t + (0.5 * t * t) * c.com_g;
+  v_W = c.v_a + c.com_g * t;
+}
+
 // The phases now become the anchor's, for steps of h counted from here.
 inline void setAnchor(FreeFlowCache& c, double h) {
   c.run_steps = 0;
@@ -653,20 +667,19 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   const bool same_lambda = valid && cache.key_lambda == lambda;
   const bool same_v = same_lambda && cache.key_trans == state.omega_B.trans;
   const bool same_x = same_lambda && cache.key_q == state.M_WB.dualQuaternion().coeffs();
+  Eigen::Vector3d x_W, v_W;
   if (!same_v || !same_x || cache.com_h != h || cache.com_g != g_W) {
-    cache.x_a = same_x ? cache.x_W : state.M_WB.translation(lambda);
-    cache.v_a = same_v ? cache.v_W : Eigen::Vector3d(r0 * (lambda * state.omega_B.trans));
+    // Where the last call left x and v: re-evaluated from the anchor (the cache keeps no copy),
+    // by the same expression, so bit for bit what that call produced.
+    if (same_x || same_v) centreOfMassAt(cache, x_W, v_W);
+    cache.x_a = same_x ? x_W : state.M_WB.translation(lambda);
+    cache.v_a = same_v ? v_W : Eigen::Vector3d(r0 * (lambda * state.omega_B.trans));
     cache.com_steps = 0;
     cache.com_h = h;
     cache.com_g = g_W;
   }
   cache.com_steps += 1;
-  {
-    const double t = cache.com_steps * h;
-    cache.x_W = cache.x_a + cache.v_a * t + (0.5 * t * t) * g_W;
-    cache.v_W = cache.v_a + g_W * t;
-  }
-  const Eigen::Vector3d& v_W = cache.v_W;
+  centreOfMassAt(cache, x_W, v_W);
 
   Eigen::Quaterniond r = r0;
   Eigen::Vector3d w_new = w;
@@ -685,7 +698,7 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
   c.anchor_steps += 1;
   attitudeAt(c, c.anchor_steps * h, h, /*runs=*/true, r, w_new);
 
-  state.M_WB = cga::Motor::fromPose(r, c.x_W, lambda);
+  state.M_WB = cga::Motor::fromPose(r, x_W, lambda);
   state.omega_B.rot = w_new;
   // A body that neither spins nor falls keeps v_B bit for bit (no round trip through v_W).
   if (c.path != Path::kStill || !g_W.isZero(0.0))

@@ -37,6 +37,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
@@ -50,9 +51,15 @@ namespace dynamics {
 /// anything else (an impulse, a torque kick, a state override) rebuilds it. Gravity and forces
 /// through the centre of mass only change v_B, which the cache does not depend on, so they keep
 /// it valid. A default-constructed cache is empty.
+///
+/// Every body of the `exact` and `auto` integrators holds one, so it keeps only what a step reads
+/// (832 bytes): members in order of alignment (no padding), the centre of mass as its anchor and
+/// step count (x_W and v_W are re-evaluated from them when needed), the AGM table as its b_j
+/// alone (a_j and 1/a_j are re-formed in the forward pass of each evaluation, elliptic.h), and
+/// the small fields in bytes at the end (a static_assert in free_flow.cc keeps it so).
 struct FreeFlowCache {
   /// Which closed form the cache holds.
-  enum class Path {
+  enum class Path : std::uint8_t {
     kNone,        ///< empty: rebuild on the next call
     kStill,       ///< w = 0: the attitude does not change
     kUniform,     ///< w constant in the body (spherical body, or spin about a principal axis)
@@ -60,36 +67,23 @@ struct FreeFlowCache {
     kElliptic,    ///< J1 < J2 < J3 off the separatrix: Jacobi elliptic functions
     kSeparatrix,  ///< J1 < J2 < J3 on the separatrix (k = 1): hyperbolic functions
   };
-  Path path = Path::kNone;
-  /// Built by freeFlowAt (anchored at its `from`, keys below are that state) rather than by
-  /// exactFreeFlow (keys are the state the last step left); each rebuilds the other's cache.
-  bool coast = false;
 
-  // Validity key: the moments and the rotational state this cache ends at.
-  Eigen::Vector3d key_J = Eigen::Vector3d::Zero();
+  // Validity key: the moments and the state this cache ends at (the rotor, w_B, v_B/λ, the
+  // motor's dual part and λ), to tell whether the next call continues from it (then x and v come
+  // from the anchor below, not from the motor: no random walk).
   Eigen::Vector4d key_r = Eigen::Vector4d::Zero();  ///< rotor quaternion coefficients (x, y, z, w)
-  Eigen::Vector3d key_w = Eigen::Vector3d::Zero();
-  // The centre of mass: its anchor (x_a, v_a, world), the step size and acceleration it was
-  // taken with and the steps since, and the x_W, v_W the last call left; with the body-axes
-  // v_B/λ, the motor's dual part and λ of that state, to tell whether the next call continues
-  // from it (then x and v come from here, not from the motor: no random walk).
-  Eigen::Vector3d key_trans = Eigen::Vector3d::Zero();
   Eigen::Vector4d key_q = Eigen::Vector4d::Zero();  ///< motor dual part coefficients
+  Eigen::Vector3d key_J = Eigen::Vector3d::Zero();
+  Eigen::Vector3d key_w = Eigen::Vector3d::Zero();
+  Eigen::Vector3d key_trans = Eigen::Vector3d::Zero();
   double key_lambda = 0;
+  // The centre of mass: its anchor (x_a, v_a, world), the step size and acceleration it was
+  // taken with and the steps since: x_W = x_a + v_a t + ½ g t², v_W = v_a + g t, t = steps·h.
   Eigen::Vector3d x_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d com_g = Eigen::Vector3d::Zero();
   double com_h = 0;
   double com_steps = 0;
-  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d x_W = Eigen::Vector3d::Zero();
-
-  // The anchor the phases are evaluated from: their values when the cache was built or the
-  // step size last changed, the step size, and the number of steps taken since (a double:
-  // exact up to 2^53 steps).
-  double anchor_h = 0;
-  double anchor_steps = 0;
-  double psi_a = 0, psi3_a = 0, tau_a = 0, g_a = 0, rho_a = 1;
 
   // Every path: R(t) = Q Rot(axis, psi) [...], psi = angle turned since the cache was built
   // (kept reduced to [−π, π]).
@@ -98,56 +92,66 @@ struct FreeFlowCache {
   double rate = 0;  ///< dψ/dt (uniform, symmetric), its linear part (elliptic, separatrix)
   double psi = 0;
 
+  // The anchor the phases are evaluated from: their values when the cache was built or the
+  // step size last changed, the step size, and the number of steps taken since (a double:
+  // exact up to 2^53 steps).
+  double anchor_h = 0;
+  double anchor_steps = 0;
+  double psi_a = 0, psi3_a = 0, tau_a = 0, g_a = 0, rho_a = 1;
+
   // Symmetric: the body spin about e3, angle psi3 at rate beta; w_B(0).
+  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();
   double beta = 0;
   double psi3 = 0;
-  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();
 
   // Elliptic and separatrix: L_a = ρ B_a cn τ, L_b = ρ σ B_b sn τ, L_c = σ B_c dn τ over the
   // principal axes (a, b, c), b = 2, c the axis the polhode circles; τ = ω_p t + τ0 is the
   // elliptic phase, kept reduced to [−K, K] (ρ = ±1 tracks the half periods dropped). The angle
   // about L is ψ(t) = rate t + (half periods) dpsi_half + g(τ) (see free_flow.cc).
-  int ia = 0, ib = 1, ic = 2;
+  Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i: w = L_B/J each step
   double sigma = 1, rho = 1;
   double Ba = 0, Bb = 0, Bc = 0;
-  double ell = 0;                                   ///< |L|
-  double inv_ell = 0;                               ///< 1/|L|
-  Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i: w = L_B/J each step
-  double G = 0;                                     ///< B_b² − B_a² = k² B_c²
-  double kp2 = 0;                                   ///< complementary parameter k'² = 1 − k²
+  double ell = 0;      ///< |L|
+  double inv_ell = 0;  ///< 1/|L|
+  double G = 0;        ///< B_b² − B_a² = k² B_c²
+  double kp2 = 0;      ///< complementary parameter k'² = 1 − k²
   double K = 0;        ///< complete integral of the first kind K(k) (quarter period in τ)
   double omega_p = 0;  ///< dτ/dt
-  bool dual = false;   ///< ψ written with the characteristic N = k²/n instead of n
   double nchar = 0;    ///< the characteristic used (n or N, |nchar| ≤ k ≤ 1, ≤ 0)
   double coef_pi = 0;  ///< g(τ) = coef_pi (nchar/3) sn³ R_J(…) + coef_atan atan2(…)
   double coef_atan = 0;
-  double dpsi_half = 0;          ///< ψ gained per half period 2K of τ, beyond rate·t
-  bool dpsi_half_ready = false;  ///< dpsi_half is computed on first use
-  double tau = 0;                ///< reduced phase of the last evaluation from the anchor
-  double g_tau = 0;              ///< g at tau
+  double dpsi_half = 0;  ///< ψ gained per half period 2K of τ, beyond rate·t
+  double tau = 0;        ///< reduced phase of the last evaluation from the anchor
+  double g_tau = 0;      ///< g at tau
   // Steps between evaluations of Π from the anchor (runs of kRunLength steps) take Π's part of ψ
   // from its addition theorem (free_flow.cc, point 7): sn δ and the gain P(δ) of Π(ν; am τ) − τ
   // over one step δ = ω_p h (for the step size `step_h`; step_ready false after a rebuild), the
   // theorem's constants A and B; the signed sn of the last step, the sum of the theorem's atan
   // terms, the angle term (Φ, or Θ continued) and ψ where the run started, and its steps.
-  bool step_ready = false;
   double step_h = 0;
-  bool step_small = false;  ///< δ small: sn, cn, dn advance by their addition theorems too
   double step_sn = 0, step_cn = 1, step_dn = 1, step_P = 0;
   double add_A = 0, add_B = 0;
   double run_sn = 0, run_cn = 1, run_dn = 1, run_atan = 0, run_angle = 0, run_angle0 = 0,
          run_psi0 = 0;
-  int run_steps = 0;
-  // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn, level by level (a_j, 1/a_j, b_j), and
-  // its limit. 16 levels cover every k'² down to the smallest double (12 are needed there: the
-  // gap's logarithm halves per level until it is O(1), then the gap squares).
-  struct AgmLevel {
-    double a = 1, inv_a = 1, b = 1;
-  };
+  // The AGM sequence of (1, k') for Bulirsch's sn/cn/dn: b_j level by level (a_0 = 1 and
+  // a_{j+1} = (a_j + b_j)/2 follow from them), and its limit. 16 levels cover every k'² down to
+  // the smallest double (12 are needed there: the gap's logarithm halves per level until it is
+  // O(1), then the gap squares).
   static constexpr int kMaxAgm = 16;
-  int agm_levels = 0;
-  AgmLevel agm[kMaxAgm];
+  double agm_b[kMaxAgm] = {};
   double agm_limit = 1;
+
+  int run_steps = 0;
+  std::int8_t agm_levels = 0;
+  std::int8_t ia = 0, ib = 1, ic = 2;
+  Path path = Path::kNone;
+  /// Built by freeFlowAt (anchored at its `from`, the keys are that state) rather than by
+  /// exactFreeFlow (keys are the state the last step left); each rebuilds the other's cache.
+  bool coast = false;
+  bool dual = false;             ///< ψ written with the characteristic N = k²/n instead of n
+  bool dpsi_half_ready = false;  ///< dpsi_half is computed on first use
+  bool step_ready = false;
+  bool step_small = false;  ///< δ small: sn, cn, dn advance by their addition theorems too
 };
 
 /// Exact torque-free motion over h: the centre of mass moves on a straight line, or on the
