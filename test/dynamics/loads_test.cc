@@ -126,6 +126,37 @@ TEST(Loads, WorldSumsAtTheCentre) {
   EXPECT_FALSE(in_body.worldSums(m, f_W, couple_W));
 }
 
+// Truth: the sums worldSums reads are kept as loads arrive (Loads::add), so clearApplied() must
+// start them over: after clearing a body-axes load and an off-centre push, the next step's world
+// loads alone make the sums, exactly (two additions to zero, compared bit for bit), and a cleared
+// load set with gravity alone gives m g and no couple.
+TEST(Loads, ClearAppliedStartsTheWorldSumsOver) {
+  const double m = 2.5;
+  Loads loads;
+  loads.setGravity(Vector3d(0, 0, -9.81));
+  AppliedLoad thruster;
+  thruster.axes = Axes::kBody;
+  thruster.F = cga::Force(Vector3d(7, 0, 0));
+  loads.add(thruster);
+  AppliedLoad off_centre =
+      testing::appliedLoad(Axes::kWorld, Vector3d(1, 2, 3), Vector3d(0.1, 0, 0), Vector3d(4, 5, 6));
+  loads.add(off_centre);
+  Vector3d f_W, couple_W;
+  ASSERT_FALSE(loads.worldSums(m, f_W, couple_W));
+
+  loads.clearApplied();
+  ASSERT_TRUE(loads.worldSums(m, f_W, couple_W));
+  EXPECT_EQ(f_W, m * Vector3d(0, 0, -9.81));
+  EXPECT_EQ(couple_W, Vector3d::Zero());
+
+  const AppliedLoad push = testing::appliedLoad(Axes::kWorld, Vector3d(3, -1, 2), Vector3d::Zero(),
+                                                Vector3d(0.5, 0.25, -1));
+  loads.add(push);
+  ASSERT_TRUE(loads.worldSums(m, f_W, couple_W));
+  EXPECT_EQ(f_W, m * Vector3d(0, 0, -9.81) + Vector3d(3, -1, 2));
+  EXPECT_EQ(couple_W, Vector3d(0.5, 0.25, -1));
+}
+
 // Truth (doc/conventions.md (E12)): α drops out of T = (M̃ λ X∧F M)∧n exactly (λ X∧(αn)∧n = 0), so
 // loads that differ only in α give the same moment, bit for bit, and the reference algebra's moment
 // of αn alone is zero.
