@@ -14,16 +14,16 @@ namespace dynamics {
 namespace {
 
 using Path = FreeFlowCache::Path;
+using elliptic::buildAgm;
+using elliptic::carlsonRF;
+using elliptic::carlsonRJ;
+using elliptic::jacobiSnCnDn;
 
 // The cache is per body (free_flow.h): keep it from growing back unnoticed. 832 bytes on LP64
 // (8-byte double, 16-byte aligned Eigen 4-vectors), where it was 1184 with padding, copies of
 // x_W and v_W and the AGM table's a_j and 1/a_j.
 static_assert(sizeof(void*) != 8 || sizeof(FreeFlowCache) <= 832,
               "FreeFlowCache grew: it is held per body by the exact and auto integrators");
-using elliptic::buildAgm;
-using elliptic::carlsonRF;
-using elliptic::carlsonRJ;
-using elliptic::jacobiSnCnDn;
 
 constexpr double kPi = 3.141592653589793;
 // Elliptic path: steps per run of the addition theorems, the first of them evaluated from the
