@@ -105,10 +105,13 @@ struct FreeFlow {
 // body's axes after the flow. Written as Loads::toBody (t = 2 x × a, x + ρ_w t + t × a, a = ρ's
 // vector part) with ρ_w t = t + d_w t, so that no small part is rounded against x before the sum.
 // One turn by the composed rotor instead of one per piece: ρ's norm is 1 to a few ε (it is formed
-// afresh every flow), and x keeps its length to that.
+// afresh every flow), and x keeps its length to that. x is doubled before the cross product (exact,
+// so the same bits as doubling t): the doubling then waits for x, not for ρ, which a flow forms
+// last (cga4 under a couple 167 -> 163 ns with the kicks' (τ/J)·c below).
 CGA_ALWAYS_INLINE void turnInto(const Quat& d, double* x) {
-  const double t[3] = {2.0 * (x[1] * d.z - x[2] * d.y), 2.0 * (x[2] * d.x - x[0] * d.z),
-                       2.0 * (x[0] * d.y - x[1] * d.x)};
+  const double x2[3] = {2.0 * x[0], 2.0 * x[1], 2.0 * x[2]};
+  const double t[3] = {x2[1] * d.z - x2[2] * d.y, x2[2] * d.x - x2[0] * d.z,
+                       x2[0] * d.y - x2[1] * d.x};
   const double c[3] = {t[1] * d.z - t[2] * d.y, t[2] * d.x - t[0] * d.z, t[0] * d.y - t[1] * d.x};
   for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
 }
@@ -355,9 +358,10 @@ CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads,
   }
   const double m = inertia.mass();
   if (step_loads.world_sums) {
+    // (τ/J)·(R̃ c): one operation after the couple's turn instead of two.
     const Eigen::Quaterniond& r = s.M_WB.rotorQuaternion();
     if (step_loads.has_couple)
-      s.omega_B.rot += tau * Loads::toBody(r, step_loads.couple_W).cwiseProduct(cache.inv_J);
+      s.omega_B.rot += (tau * cache.inv_J).cwiseProduct(Loads::toBody(r, step_loads.couple_W));
     if (step_loads.has_force)
       s.omega_B.trans += (tau / (m * lambda)) * Loads::toBody(r, step_loads.f_W);
     return;
@@ -404,10 +408,10 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     Eigen::Vector3d c = *couple_W;
     turnInto({rq.w - 1.0, rq.x, rq.y, rq.z}, c.data());
     const Eigen::Vector3d& inv_J = cache.inv_J;
-    double tau_kick = 0.5 * gamma[0] * h;
+    double tau_kick = 0.5 * gamma[0] * h;  // each kick is w += (τ/J)·c, one operation after c
 #pragma GCC unroll 8
     for (int i = 0; i < S; ++i) {
-      for (int j = 0; j < 3; ++j) w[j] += tau_kick * (c[j] * inv_J[j]);
+      for (int j = 0; j < 3; ++j) w[j] += (tau_kick * inv_J[j]) * c[j];
       const double tau = gamma[i] * h;
       FreeFlow f = beginFreeFlow(tau, cache, w);
       turnInto(f.d, c.data());
@@ -421,7 +425,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
       }
       tau_kick = 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0));
     }
-    for (int j = 0; j < 3; ++j) w[j] += tau_kick * (c[j] * inv_J[j]);
+    for (int j = 0; j < 3; ++j) w[j] += (tau_kick * inv_J[j]) * c[j];
   }
   renormalise(state);
   endFreeFlow(d, h, u_drift, u, state);
