@@ -108,12 +108,24 @@ struct FreeFlow {
 // afresh every flow), and x keeps its length to that. x is doubled before the cross product (exact,
 // so the same bits as doubling t): the doubling then waits for x, not for ρ, which a flow forms
 // last (cga4 under a couple 167 -> 163 ns with the kicks' (τ/J)·c below).
+// kUnrolled: the sum written out three times (GCC at -O2 keeps a loop over x in memory otherwise)
+// or kept a loop. Written out, x stays in registers and the next operation on it does not wait
+// for a store and a load (cga4 under a couple 158 -> 137 ns with composeWorldLoads' local copies,
+// every cga4 case 3-11 % cheaper); in cga2's kicked path the loop measured faster (58 against
+// 70 ns under a couple: the same code GCC lays out differently), so that path keeps it.
+template <bool kUnrolled = true>
 CGA_ALWAYS_INLINE void turnInto(const Quat& d, double* x) {
   const double x2[3] = {2.0 * x[0], 2.0 * x[1], 2.0 * x[2]};
   const double t[3] = {x2[1] * d.z - x2[2] * d.y, x2[2] * d.x - x2[0] * d.z,
                        x2[0] * d.y - x2[1] * d.x};
   const double c[3] = {t[1] * d.z - t[2] * d.y, t[2] * d.x - t[0] * d.z, t[0] * d.y - t[1] * d.x};
-  for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
+  if constexpr (kUnrolled) {
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
+  } else {
+#pragma GCC unroll 1
+    for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
+  }
 }
 
 // R_i(τ κ_i): the flow of κ_i L_i²/(2J_i): the body turns by φ = τ κ_i w_i about e_i; L_B turns
@@ -283,6 +295,7 @@ CGA_ALWAYS_INLINE void renormalise(BodyState& s) {
 // and u0 turned into the new body axes (it is world-fixed during the flow).
 // With loads whose force is fixed in the world, the drift's velocity (the mean over the flow, in
 // the start's axes) and the one turned into the end's axes differ: `u_drift` and `u`.
+template <bool kUnrolledTurn = true>
 CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_drift, double* u,
                                    BodyState& s) {
   const Quat r = toQuat(s.M_WB.rotorQuaternion());
@@ -293,10 +306,11 @@ CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_dr
   const Quat rd = mul(r, d), qd = mul(q, d);
   s.M_WB = cga::Motor::fromQuaternions(toEigen({r.w + rd.w, r.x + rd.x, r.y + rd.y, r.z + rd.z}),
                                        toEigen({q.w + qd.w, q.x + qd.x, q.y + qd.y, q.z + qd.z}));
-  turnInto(d, u);
+  turnInto<kUnrolledTurn>(d, u);
 }
+template <bool kUnrolledTurn = true>
 CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, BodyState& s) {
-  endFreeFlow(f.d, tau, u, u, s);
+  endFreeFlow<kUnrolledTurn>(f.d, tau, u, u, s);
 }
 
 // The turning of a step with no torque: one flow of the Casimir part for h (it commutes with
@@ -399,15 +413,20 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     }
   }
   Quat d;
-  double* w = state.omega_B.rot.data();
+  double* w_state = state.omega_B.rot.data();
   if (!couple_W) {
-    FreeFlow f = mergedFreeTurning<S>(h, gamma, cache, w);
-    for (int j = 0; j < 3; ++j) w[j] = f.w[j];
+    FreeFlow f = mergedFreeTurning<S>(h, gamma, cache, w_state);
+    for (int j = 0; j < 3; ++j) w_state[j] = f.w[j];
     d = f.d;
   } else {
     const Quat rq = toQuat(r0);
-    Eigen::Vector3d c = *couple_W;
-    turnInto({rq.w - 1.0, rq.x, rq.y, rq.z}, c.data());
+    // The couple and w as local arrays, their loops written out: kept in state memory or in an
+    // Eigen vector whose address is taken, and looped over, every kick and turn stored them and
+    // loaded them again on the path from one kick to the next (cga4 under a couple 158 -> 137 ns,
+    // with turnInto written out).
+    double c[3] = {(*couple_W)[0], (*couple_W)[1], (*couple_W)[2]};
+    turnInto({rq.w - 1.0, rq.x, rq.y, rq.z}, c);
+    double w[3] = {w_state[0], w_state[1], w_state[2]};
     const Eigen::Vector3d& inv_J = cache.inv_J;
     double tau_kick = 0.5 * gamma[0] * h;  // each kick is w += (τ/J)·c, one operation after c
     // Each stage's C(τ) turns by |a|, |a|² = (½τ/J_r)² |L|², with |L|² carried as a number
@@ -419,6 +438,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     // norm error of that order is what renormalise() takes off.
     const Eigen::Vector3d& J = cache.J;
     double LL = 0.0, Lc = 0.0, cc = 0.0;
+#pragma GCC unroll 3
     for (int j = 0; j < 3; ++j) {
       const double L = J[j] * w[j];
       LL += L * L;
@@ -427,14 +447,16 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     }
 #pragma GCC unroll 8
     for (int i = 0; i < S; ++i) {
+#pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) w[j] += (tau_kick * inv_J[j]) * c[j];
       LL += tau_kick * (2.0 * Lc + tau_kick * cc);
       Lc += tau_kick * cc;
       const double tau = gamma[i] * h;
       const double kr = 0.5 * tau * inv_J[kRef], z = (kr * kr) * LL;
       FreeFlow f = beginFreeFlow(tau, cache, w, &z);
-      turnInto(f.d, c.data());
-      stagePieces(tau, cache, f, c.data());
+      turnInto(f.d, c);
+      stagePieces(tau, cache, f, c);
+#pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) w[j] = f.w[j];
       if (i == 0) {
         d = f.d;
@@ -444,7 +466,8 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
       }
       tau_kick = 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0));
     }
-    for (int j = 0; j < 3; ++j) w[j] += (tau_kick * inv_J[j]) * c[j];
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) w_state[j] = w[j] + (tau_kick * inv_J[j]) * c[j];
   }
   renormalise(state);
   endFreeFlow(d, h, u_drift, u, state);
@@ -495,7 +518,7 @@ CGA_FMA_CLONES void compose(const Inertia& inertia, const Loads& loads, double l
     FreeFlow f = beginFreeFlow(tau, cache, state.omega_B.rot.data());
     stagePieces(tau, cache, f);
     double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
-    endFreeFlow(f, tau, u, state);
+    endFreeFlow<(S > 1)>(f, tau, u, state);
     for (int j = 0; j < 3; ++j) {
       state.omega_B.rot[j] = f.w[j];
       state.omega_B.trans[j] = u[j];
