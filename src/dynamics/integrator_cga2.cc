@@ -518,7 +518,7 @@ CGA_FMA_CLONES void compose(const Inertia& inertia, const Loads& loads, double l
     FreeFlow f = beginFreeFlow(tau, cache, state.omega_B.rot.data());
     stagePieces(tau, cache, f);
     double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
-    endFreeFlow<(S > 1)>(f, tau, u, state);
+    endFreeFlow<(S > 1)>(f, tau, u, state);  // one stage: the turn as a loop (see turnInto)
     for (int j = 0; j < 3; ++j) {
       state.omega_B.rot[j] = f.w[j];
       state.omega_B.trans[j] = u[j];
