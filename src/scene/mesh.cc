@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <system_error>
 #include <unordered_map>
 
 #include "cga_rigid_sim/format.h"
@@ -201,9 +202,14 @@ Result<TriangleMesh> readObj(const std::string& text, const std::string& name) {
 
 Result<TriangleMesh> readMeshFile(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file || fs::is_directory(path))
+  const int open_errno = errno;
+  // The error_code overload: the throwing one raises on names the system refuses (too long, a
+  // component not a directory), and a URDF can give any name.
+  std::error_code ec;
+  const bool is_directory = fs::is_directory(path, ec);
+  if (!file || is_directory)
     return Error{"cannot open mesh file '" + path + "': " +
-                 (fs::is_directory(path) ? std::string("is a directory") : std::strerror(errno))};
+                 (is_directory ? std::string("is a directory") : std::strerror(open_errno))};
   std::ostringstream buffer;
   buffer << file.rdbuf();
   const std::string ext = lowercase(fs::path(path).extension().string());

@@ -9,8 +9,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -352,6 +354,21 @@ TEST(CollisionShapes, MeshVerticesAreTheFilesScaledAndOpenMeshesAreAccepted) {
     EXPECT_GT(n.dot(inverse_transpose.cwiseProduct(n_file)), 0.0) << "triangle " << t;
   }
   fs::remove_all(dir);
+}
+
+TEST(CollisionShapes, MeshFileNameTheSystemRefusesIsAnErrorNotACrash) {
+  // A name longer than the system allows (NAME_MAX is 255 bytes on Linux): opening it fails with
+  // ENAMETOOLONG, and the loader must say so instead of letting a filesystem exception escape
+  // (found by fuzz_urdf).
+  const std::string name = "/tmp/" + std::string(5000, 'a') + ".stl";
+  const std::string urdf =
+      "<robot name=\"m\"><link name=\"bin\"><collision><geometry>"
+      "<mesh filename=\"file://" +
+      name + "\"/></geometry></collision></link></robot>";
+  const auto scene = loadUrdfString(urdf, "long_name", SceneOptions());
+  ASSERT_FALSE(scene.ok());
+  EXPECT_NE(scene.error().find("cannot open mesh file"), std::string::npos) << scene.error();
+  EXPECT_NE(scene.error().find(std::strerror(ENAMETOOLONG)), std::string::npos) << scene.error();
 }
 
 TEST(CollisionShapes, SummaryCountsShapesByKind) {

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -212,6 +213,11 @@ TEST(MassProperties, MeshFilesAsciiStlBinaryStlObj) {
   const auto bad = readMeshFile((dir / "missing.stl").string());
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().find("cannot open mesh file"), std::string::npos);
+  // A name the system refuses (longer than NAME_MAX): an error naming the reason, no exception.
+  const auto too_long = readMeshFile((dir / (std::string(300, 'a') + ".stl")).string());
+  ASSERT_FALSE(too_long.ok());
+  EXPECT_NE(too_long.error().find(std::strerror(ENAMETOOLONG)), std::string::npos)
+      << too_long.error();
   std::ofstream(dir / "box.ply") << "ply\n";
   EXPECT_NE(readMeshFile((dir / "box.ply").string()).error().find("unsupported format"),
             std::string::npos);
