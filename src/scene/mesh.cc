@@ -203,8 +203,9 @@ Result<TriangleMesh> readObj(const std::string& text, const std::string& name) {
 Result<TriangleMesh> readMeshFile(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   const int open_errno = errno;
-  // The error_code overload: the throwing one raises on names the system refuses (too long, a
-  // component not a directory), and a URDF can give any name.
+  // The error_code overload: the throwing one raises when the name cannot be looked up at all
+  // (longer than the system allows, or in a directory the process may not search), and a URDF
+  // can give any name.
   std::error_code ec;
   const bool is_directory = fs::is_directory(path, ec);
   if (!file || is_directory)
