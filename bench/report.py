@@ -66,9 +66,14 @@ def read_csv(path):
 
 
 def read_cpu_times(out):
-    """(engine, config, case, h) -> thread-CPU ns/step from the cputime_<engine>.csv side files."""
+    """(engine, config, case, h) -> thread-CPU ns/step from the cputime_<engine>.csv side files:
+    ours and those of the peers that have a peers_<engine>.csv, not every cputime_*.csv (a side
+    run's, cputime_<its csv>, holds our engine's rows too, from another build)."""
     cpu = {}
-    for path in sorted(glob.glob(os.path.join(out, "cputime_*.csv"))):
+    engines = [OURS] + sorted(os.path.basename(p)[len("peers_"):-len(".csv")]
+                              for p in glob.glob(os.path.join(out, "peers_*.csv")))
+    for engine in engines:
+        path = os.path.join(out, "cputime_%s.csv" % engine)
         for r in read_csv(path):
             try:
                 cpu[(r["engine"], r["config"], r["case"], "%.6g" % num(r["h"]))] = num(
@@ -383,6 +388,10 @@ def target_auto_floor(rows, cases):
         return ("not measured", "no torque-free case in cases.csv", "")
     worst_ratio, worst_at, max_ns, max_ns_at, parts, missing = 0.0, "", 0.0, "", [], []
     max_cpu = float("nan")
+    no_floor = [c for c in tf if not num(cases[c].get("floor_orientation_rad")) > 0]
+    if no_floor:
+        return ("not measured", "no conditioning floor for " + ", ".join(no_floor) +
+                " in cases.csv", "")
     for c in tf:
         floor = num(cases[c].get("floor_orientation_rad"))
         rs = our_rows(rows, c, "auto")
@@ -689,6 +698,13 @@ def main():
 
     rows = read_work_precision(args.out, args.clock)
     cases = {r["case"]: r for r in read_csv(os.path.join(args.out, "cases.csv"))}
+    # Every case we ran must have its facts: without them T1 and T5 cannot be judged, and a
+    # cases.csv written by another run (fewer cases) would make them "not measured" silently.
+    unknown = sorted({r["case"] for r in rows if is_ours(r)} - set(cases))
+    if unknown:
+        sys.exit("report.py: %s has no row for %s (ours.csv has them): rerun "
+                 "bench_work_precision for the whole sweep" % (
+                     os.path.join(args.out, "cases.csv"), ", ".join(unknown)))
     scaling = read_csv(os.path.join(args.out, "scaling.csv"))
     if args.clock == "cpu":
         for r in scaling:

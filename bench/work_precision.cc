@@ -76,13 +76,14 @@ void usage() {
   std::printf(
       "usage: bench_work_precision [options]\n"
       "  --out DIR              output directory (default %s)\n"
-      "  --csv PATH             CSV file (default DIR/ours.csv)\n"
+      "  --csv PATH             CSV file (default DIR/ours.csv); with it, the side files\n"
+      "                         cputime_NAME and cases_NAME go beside PATH, not into DIR\n"
       "  --cases a,b            only these cases (default: all of cases.h)\n"
       "  --integrators a,b      only these integrators (default cga2,cga4,exact,auto,euler,rk4)\n"
       "  --hs 1e-3,1e-2         step sizes (default: the peers' 1e-4 ... 1e-1, 10 values)\n"
       "  --reps R               timing repetitions of the whole run, median (default 3)\n"
       "  --min-timed-steps S    repeat short runs until they add up to S steps (default 200000)\n"
-      "  --no-floors            do not compute/refresh DIR/floors.csv\n"
+      "  --no-floors            do not compute/refresh DIR/floors.csv (only read it)\n"
       "  --floors-only          only compute DIR/floors.csv\n",
       BENCH_OUT_DIR);
 }
@@ -129,9 +130,11 @@ double computeFloor(const ::bench::Case& c) {
   return std::sqrt(sum_sq);
 }
 
-// floors.csv: case,key,floor_orientation_rad. Recomputes the floors of cases whose key changed.
+// floors.csv: case,key,floor_orientation_rad. Recomputes the floors of cases whose key changed;
+// with `compute` false (--no-floors) it only reads the file, and a case whose key changed is left
+// out (its floor is then unknown, not stale).
 std::map<std::string, double> floors(const std::vector<::bench::Case>& cases,
-                                     const std::string& out_dir) {
+                                     const std::string& out_dir, bool compute) {
   const std::string path = out_dir + "/floors.csv";
   std::map<std::string, std::pair<std::string, double>> cached;
   {
@@ -151,6 +154,7 @@ std::map<std::string, double> floors(const std::vector<::bench::Case>& cases,
       result[c.name] = it->second.second;
       continue;
     }
+    if (!compute) continue;
     const auto t0 = Clock::now();
     const double floor = computeFloor(c);
     cached[c.name] = {key, floor};
@@ -158,6 +162,7 @@ std::map<std::string, double> floors(const std::vector<::bench::Case>& cases,
     std::fprintf(stderr, "[floor] %-16s %.3e rad  (%.1f s)\n", c.name.c_str(), floor,
                  std::chrono::duration<double>(Clock::now() - t0).count());
   }
+  if (!compute) return result;
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) {
     std::fprintf(stderr, "cannot write %s\n", path.c_str());
@@ -170,12 +175,23 @@ std::map<std::string, double> floors(const std::vector<::bench::Case>& cases,
   return result;
 }
 
+// A side file's path: DIR/<name> for the report's run, <csv's folder>/<stem>_<csv's name> beside
+// --csv when one is given. A side run (an A/B timing of a few cases) then leaves the report's
+// files alone: bench/report.py reads DIR/cases.csv and DIR/cputime_cga_rigid_sim.csv, and a side
+// run's cases.csv, written over the report's with its few cases and no floors, once made the
+// report print T1 with no floor and T5 as not measured.
+std::string sideFile(const Options& o, const std::string& stem, const std::string& name) {
+  if (o.csv.empty()) return o.out_dir + "/" + name;
+  const std::size_t slash = o.csv.find_last_of('/');
+  const std::size_t base = slash == std::string::npos ? 0 : slash + 1;
+  return o.csv.substr(0, base) + stem + "_" + o.csv.substr(base);
+}
+
 // cases.csv: what report.py needs to know about each case (whether it is torque-free or under
 // gravity, its floor, |x(T)| of the reference for the CoM round-off bound).
 void writeCaseFacts(const std::vector<::bench::Case>& cases,
                     const std::vector<::bench::Reference>& refs,
-                    const std::map<std::string, double>& floor_of, const std::string& out_dir) {
-  const std::string path = out_dir + "/cases.csv";
+                    const std::map<std::string, double>& floor_of, const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) {
     std::fprintf(stderr, "cannot write %s\n", path.c_str());
@@ -248,15 +264,8 @@ int sweep(const Options& o, const std::vector<::bench::Case>& cases) {
     return 2;
   }
   std::fprintf(csv, "%s\n", kHeader);
-  // Side file, as the peers write it: the same timing runs in wall and thread-CPU time. Beside
-  // --csv when one is given (cputime_<its name>), so that a side run does not overwrite the
-  // report's (bench/report.py reads DIR/cputime_cga_rigid_sim.csv).
-  std::string cpu_path = o.out_dir + "/cputime_" + kEngine + ".csv";
-  if (!o.csv.empty()) {
-    const std::size_t slash = o.csv.find_last_of('/');
-    const std::size_t name = slash == std::string::npos ? 0 : slash + 1;
-    cpu_path = o.csv.substr(0, name) + "cputime_" + o.csv.substr(name);
-  }
+  // Side file, as the peers write it: the same timing runs in wall and thread-CPU time.
+  const std::string cpu_path = sideFile(o, "cputime", std::string("cputime_") + kEngine + ".csv");
   FILE* cpu_csv = std::fopen(cpu_path.c_str(), "w");
   if (cpu_csv) std::fprintf(cpu_csv, "engine,config,case,h,wall_ns_per_step,cpu_ns_per_step\n");
   const double inf = std::numeric_limits<double>::infinity();
@@ -368,9 +377,8 @@ int run(int argc, char** argv) {
   // and the facts report.py needs about each case.
   std::vector<::bench::Reference> refs;
   for (const ::bench::Case& c : cases) refs.push_back(::bench::referenceSolution(c, o.out_dir));
-  std::map<std::string, double> floor_of;
-  if (o.floors || !o.sweep) floor_of = floors(cases, o.out_dir);
-  writeCaseFacts(cases, refs, floor_of, o.out_dir);
+  const std::map<std::string, double> floor_of = floors(cases, o.out_dir, o.floors || !o.sweep);
+  writeCaseFacts(cases, refs, floor_of, sideFile(o, "cases", "cases.csv"));
   return o.sweep ? sweep(o, cases) : 0;
 }
 
