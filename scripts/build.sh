@@ -73,10 +73,19 @@ if $tests; then
 fi
 
 start=$(date +%s)
+# Every option of the project (and the extra compiler flags) at its default, then this call's
+# arguments over them (the compiler flags: $CXXFLAGS, as CMake takes it on a first configure):
+# CMake keeps an option in its cache from one configure to the next, so a
+# -DCGA_RIGID_SIM_NATIVE=ON or -DCMAKE_CXX_FLAGS=... given once would otherwise stay in every
+# later build, test.sh's and run.sh's included.
 catkin_make -C "$ws" \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_CXX_FLAGS="${CXXFLAGS:-}" \
   -DCGA_RIGID_SIM_ASAN=OFF \
+  -DCGA_RIGID_SIM_NATIVE=OFF \
+  -DCGA_RIGID_SIM_BUILD_BENCHMARKS=ON \
+  -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=ON \
   "${cmake_args[@]}" \
   -j"$jobs" "${targets[@]}"
 end=$(date +%s)
