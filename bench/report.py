@@ -29,6 +29,7 @@ PLOT_FLOOR = 1e-16   # errors below this print as "< 1e-16" and plot at this val
 AT_FLOOR = 10.0      # "at the conditioning floor": error <= AT_FLOOR x floor
 UNIT_ROUNDOFF = 2.0 ** -53
 CLOCK = "wall"       # which clock the ns figures come from (--clock)
+CLOCK_GHZ = float("nan")  # the FMA-chain clock of environment.txt (clock_ghz), GHz
 USEFUL_RAD = 0.1     # orientation errors at or above this track nothing (T4 does not count them)
 ROUNDOFF_SLACK = 10.0  # T5: CoM error <= this x sqrt(N) u |x(T)| is "exact to round-off"
 
@@ -375,6 +376,14 @@ def row_at(rows, case, engine, config, h):
     return None
 
 
+def cycles_note(ns):
+    """' (≈ n cycles)' at the FMA-chain clock of environment.txt, when it was measured: the
+    machine kind changes between runs, and a step costs about the same cycles on each."""
+    if not CLOCK_GHZ > 0 or ns is None or not math.isfinite(ns):
+        return ""
+    return " (≈ %.0f cycles)" % (ns * CLOCK_GHZ)
+
+
 def cpu_note(value):
     """' (thread CPU n)' beside a wall-clock figure, when the CPU time is known and differs."""
     if CLOCK != "wall" or value is None or not math.isfinite(value):
@@ -456,8 +465,9 @@ def target_cga4(rows, cases):
     if not t_ok:
         how.append("worst %.0f%% over 150 ns (%s)" % (100 * (worst[0] / 150 - 1), worst[1]))
     return ("met" if e_ok and t_ok else "missed",
-            "tennis racket %s rad; worst %s ns/step (%s)%s" % (
-                fmt_err(r["ang"], r["blew"]), fmt_ns(worst[0]), worst[1], cpu_note(worst[2])),
+            "tennis racket %s rad; worst %s ns/step%s (%s)%s" % (
+                fmt_err(r["ang"], r["blew"]), fmt_ns(worst[0]), cycles_note(worst[0]), worst[1],
+                cpu_note(worst[2])),
             ("; ".join(how) + "<br>" if how else "") + detail)
 
 
@@ -469,8 +479,8 @@ def target_cga2(rows, cases):
     how = "" if worst[0] <= 60 else "worst %.0f%% over 60 ns (%s)" % (
         100 * (worst[0] / 60 - 1), worst[1])
     return ("met" if worst[0] <= 60 else "missed",
-            "worst %s ns/step at h = 1 ms (%s)%s" % (fmt_ns(worst[0]), worst[1],
-                                                     cpu_note(worst[2])),
+            "worst %s ns/step%s at h = 1 ms (%s)%s" % (fmt_ns(worst[0]), cycles_note(worst[0]),
+                                                       worst[1], cpu_note(worst[2])),
             (how + "<br>" if how else "") + detail)
 
 
@@ -719,6 +729,8 @@ def main():
     node = read_csv(os.path.join(args.out, "node_throughput.csv"))
     notes = read_notes(os.path.join(ROOT, "bench", "target_notes.md"))
     env = environment(args.out)
+    global CLOCK_GHZ
+    CLOCK_GHZ = num(env.get("clock_ghz"))
     img_dir = os.path.join(args.doc, "img")
     plots = not args.no_plots and gnuplot_available()
     if not args.no_plots and not plots:
@@ -741,6 +753,9 @@ def main():
                 ["cga_rigid_sim", env.get("git_describe", "?")],
                 ["date", env.get("date", "?")],
                 ["load before the run", env.get("loadavg", "?")]]
+    if CLOCK_GHZ > 0:
+        env_rows.insert(1, ["clock (a chain of dependent FMAs, 4 cycles each)",
+                            "%.2f GHz" % CLOCK_GHZ])
     doc += [md_table(["", ""], env_rows, ["l", "l"]), ""]
     peer_versions = versions(args.out)
     if peer_versions:

@@ -84,7 +84,8 @@ void usage() {
       "  --reps R               timing repetitions of the whole run, median (default 3)\n"
       "  --min-timed-steps S    repeat short runs until they add up to S steps (default 200000)\n"
       "  --no-floors            do not compute/refresh DIR/floors.csv (only read it)\n"
-      "  --floors-only          only compute DIR/floors.csv\n",
+      "  --floors-only          only compute DIR/floors.csv\n"
+      "  --fma-clock            print the core's clock from a chain of dependent FMAs (GHz)\n",
       BENCH_OUT_DIR);
 }
 
@@ -361,6 +362,9 @@ int run(int argc, char** argv) {
       o.floors = false;
     } else if (a == "--floors-only") {
       o.sweep = false;
+    } else if (a == "--fma-clock") {
+      std::printf("%.2f\n", fmaChainGHz());
+      return 0;
     } else {
       usage();
       return a == "--help" || a == "-h" ? 0 : 2;

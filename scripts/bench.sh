@@ -77,6 +77,7 @@ if $node; then rm -f "$out"/node_throughput.csv; fi
   echo "compiler: $(c++ --version | head -1)"
   echo "os: $(. /etc/os-release 2>/dev/null && echo "${PRETTY_NAME:-?}"), kernel $(uname -r)"
   echo "loadavg: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "clock_ghz: $("$bin/bench_work_precision" --fma-clock 2>/dev/null || echo 0)"
 } > "$out/environment.txt"
 
 # Peers: the peer engineer's driver (builds the runners in build/peers, fills the reference
