@@ -1,6 +1,7 @@
 #include "cga_rigid_sim/dynamics/integrator_cga2.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -108,24 +109,16 @@ struct FreeFlow {
 // afresh every flow), and x keeps its length to that. x is doubled before the cross product (exact,
 // so the same bits as doubling t): the doubling then waits for x, not for ρ, which a flow forms
 // last (cga4 under a couple 167 -> 163 ns with the kicks' (τ/J)·c below).
-// kUnrolled: the sum written out three times (GCC at -O2 keeps a loop over x in memory otherwise)
-// or kept a loop. Written out, x stays in registers and the next operation on it does not wait
-// for a store and a load (cga4 under a couple 158 -> 137 ns with composeWorldLoads' local copies,
-// every cga4 case 3-11 % cheaper); in cga2's kicked path the loop measured faster (58 against
-// 70 ns under a couple: the same code GCC lays out differently), so that path keeps it.
-template <bool kUnrolled = true>
+// The sum is written out three times: GCC at -O2 keeps a loop over x in memory otherwise, and the
+// next operation on x then waits for a store and a load (cga4 under a couple 158 -> 137 ns with
+// composeWorldLoads' local copies, every cga4 case 3-11 % cheaper).
 CGA_ALWAYS_INLINE void turnInto(const Quat& d, double* x) {
   const double x2[3] = {2.0 * x[0], 2.0 * x[1], 2.0 * x[2]};
   const double t[3] = {x2[1] * d.z - x2[2] * d.y, x2[2] * d.x - x2[0] * d.z,
                        x2[0] * d.y - x2[1] * d.x};
   const double c[3] = {t[1] * d.z - t[2] * d.y, t[2] * d.x - t[0] * d.z, t[0] * d.y - t[1] * d.x};
-  if constexpr (kUnrolled) {
 #pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
-  } else {
-#pragma GCC unroll 1
-    for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
-  }
+  for (int i = 0; i < 3; ++i) x[i] += t[i] + (d.w * t[i] + c[i]);
 }
 
 // R_i(τ κ_i): the flow of κ_i L_i²/(2J_i): the body turns by φ = τ κ_i w_i about e_i; L_B turns
@@ -221,6 +214,7 @@ CGA_ALWAYS_INLINE void refreshCache(const Inertia& inertia, Cache& cache) {
   const Eigen::Vector3d& J = inertia.principalMoments();
   if (J != cache.J) {
     cache.J = J;
+    cache.couple.age = Cache::CarriedCouple::kMaxSteps;  // its |L|² is J's
     cache.inv_J = J.cwiseInverse();
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3, k = (i + 2) % 3;
@@ -295,7 +289,6 @@ CGA_ALWAYS_INLINE void renormalise(BodyState& s) {
 // and u0 turned into the new body axes (it is world-fixed during the flow).
 // With loads whose force is fixed in the world, the drift's velocity (the mean over the flow, in
 // the start's axes) and the one turned into the end's axes differ: `u_drift` and `u`.
-template <bool kUnrolledTurn = true>
 CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_drift, double* u,
                                    BodyState& s) {
   const Quat r = toQuat(s.M_WB.rotorQuaternion());
@@ -306,11 +299,10 @@ CGA_ALWAYS_INLINE void endFreeFlow(const Quat& d, double tau, const double* u_dr
   const Quat rd = mul(r, d), qd = mul(q, d);
   s.M_WB = cga::Motor::fromQuaternions(toEigen({r.w + rd.w, r.x + rd.x, r.y + rd.y, r.z + rd.z}),
                                        toEigen({q.w + qd.w, q.x + qd.x, q.y + qd.y, q.z + qd.z}));
-  turnInto<kUnrolledTurn>(d, u);
+  turnInto(d, u);
 }
-template <bool kUnrolledTurn = true>
 CGA_ALWAYS_INLINE void endFreeFlow(const FreeFlow& f, double tau, double* u, BodyState& s) {
-  endFreeFlow<kUnrolledTurn>(f.d, tau, u, u, s);
+  endFreeFlow(f.d, tau, u, u, s);
 }
 
 // The turning of a step with no torque: one flow of the Casimir part for h (it commutes with
@@ -331,57 +323,31 @@ CGA_ALWAYS_INLINE FreeFlow mergedFreeTurning(double h, const double* gamma, cons
   return f;
 }
 
-// The loads of one step as the kicks need them: when they are all world-axes loads at the
-// centre of mass (gravity, pushes through it, couples: Loads::worldSums), their world sums, formed
-// once per step, so that a kick is one or two rotations into the body and no pass over the loads.
+// The applied loads' world sums when they are all world-axes loads at the centre of mass
+// (gravity, pushes through it, couples: Loads::worldSums), formed once per step for
+// composeWorldLoads, which then makes no pass over the loads.
 struct StepLoads {
-  const Loads& loads;
   bool world_sums;
   bool has_force, has_couple;
   Eigen::Vector3d f_W, couple_W;
 
-  StepLoads(const Loads& l, double mass) : loads(l) {
+  StepLoads(const Loads& l, double mass) {
     world_sums = l.hasApplied() && l.worldSums(mass, f_W, couple_W);
     has_force = world_sums && !f_W.isZero(0.0);
     has_couple = world_sums && !couple_W.isZero(0.0);
   }
 };
 
-// The general kick (loads at points of the body, or in its axes): the loads' moment at the pose.
-// Out of line: kept out of the hot paths' register allocation.
-__attribute__((noinline)) void kickByMoment(const Inertia& inertia, const Loads& loads,
-                                            double lambda, double tau, const Cache& cache,
-                                            BodyState& s) {
+// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose (Loads::moment_B: one
+// rotation into the body for all world-axes parts): (I∧n)⁻¹ (τ_B, λ f_B) = (τ_B/J, f_B/(m λ)).
+// The general kick, for loads at points of the body or in its axes (world-axes loads at the
+// centre take composeWorldLoads). Out of line: kept out of the hot paths' register allocation.
+__attribute__((noinline)) void kick(const Inertia& inertia, const Loads& loads, double lambda,
+                                    double tau, const Cache& cache, BodyState& s) {
   const double m = inertia.mass();
   const cga::Moment T = loads.moment_B(m, s.M_WB, lambda);
   s.omega_B.rot += tau * T.rot.cwiseProduct(cache.inv_J);
   s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
-}
-
-// K(τ): Ω_B += τ (I∧n)⁻¹ T, T the loads' body moment at the current pose (Loads::moment_B: one
-// rotation into the body for all world-axes parts): (I∧n)⁻¹ (τ_B, λ f_B) = (τ_B/J, f_B/(m λ)).
-CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads, double lambda,
-                            double tau, const Cache& cache, BodyState& s) {
-  const Loads& loads = step_loads.loads;
-  if (!loads.hasApplied()) {
-    // Gravity alone: the velocity change τ R̃ g. compose() gives gravity alone to
-    // composeWorldLoads, so this is not reached from there; removing it made GCC allocate the
-    // registers of compose<1> differently, and cga2 under a world couple 7 % slower (87 -> 93 ns,
-    // interleaved best of 5), so it stays.
-    s.omega_B.trans += (tau / lambda) * Loads::toBody(s.M_WB.rotorQuaternion(), loads.gravity());
-    return;
-  }
-  const double m = inertia.mass();
-  if (step_loads.world_sums) {
-    // (τ/J)·(R̃ c): one operation after the couple's turn instead of two.
-    const Eigen::Quaterniond& r = s.M_WB.rotorQuaternion();
-    if (step_loads.has_couple)
-      s.omega_B.rot += (tau * cache.inv_J).cwiseProduct(Loads::toBody(r, step_loads.couple_W));
-    if (step_loads.has_force)
-      s.omega_B.trans += (tau / (m * lambda)) * Loads::toBody(r, step_loads.f_W);
-    return;
-  }
-  kickByMoment(inertia, loads, lambda, tau, cache, s);
 }
 
 // The composition when every load is a world-axes sum at the centre (gravity alone, or
@@ -392,14 +358,14 @@ CGA_ALWAYS_INLINE void kick(const Inertia& inertia, const StepLoads& step_loads,
 // stage's drift sits halfway between its kicks), and the velocity at the end is u0 + h a
 // turned into the end's axes by the step's rotor. The turning alone sees the couple: without one
 // it is the free path's (one C(h), the pieces merged into one rotor); with one, each stage's flow
-// and its kick run in turn, the couple is carried in body axes (turned by each stage's C(τ) and
-// then piece by piece with L_B, off the chain from one kick to the next) and the stages' rotors
-// are composed, so that the motor is updated once per step.
+// and its kick run in turn, the couple is carried in body axes from stage to stage and from step
+// to step (turned by each stage's C(τ) and then piece by piece with L_B, off the chain from one
+// kick to the next) and the stages' rotors are composed, so that the motor is updated once per
+// step.
 template <int S>
 CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double accel_scale,
                                          const Eigen::Vector3d* couple_W, double h,
-                                         const double* gamma, const Cache& cache,
-                                         BodyState& state) {
+                                         const double* gamma, Cache& cache, BodyState& state) {
   // The centre's acceleration over λ in the start's axes, times h: accel_scale · R̃ accel_W.
   // Taken from the rotor before this step's renormalisation (which scales it by 1 + O(ε)).
   const Eigen::Quaterniond& r0 = state.M_WB.rotorQuaternion();
@@ -419,31 +385,59 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     for (int j = 0; j < 3; ++j) w_state[j] = f.w[j];
     d = f.d;
   } else {
-    const Quat rq = toQuat(r0);
     // The couple and w as local arrays, their loops written out: kept in state memory or in an
     // Eigen vector whose address is taken, and looped over, every kick and turn stored them and
     // loaded them again on the path from one kick to the next (cga4 under a couple 158 -> 137 ns,
     // with turnInto written out).
-    double c[3] = {(*couple_W)[0], (*couple_W)[1], (*couple_W)[2]};
-    turnInto({rq.w - 1.0, rq.x, rq.y, rq.z}, c);
     double w[3] = {w_state[0], w_state[1], w_state[2]};
     const Eigen::Vector3d& inv_J = cache.inv_J;
     double tau_kick = 0.5 * gamma[0] * h;  // each kick is w += (τ/J)·c, one operation after c
+    // The couple in body axes, c = R̃ c_W, carried from the last step (Cache::CarriedCouple): the
+    // stages turn it with the body (by each C(τ), then piece by piece with L_B), so that at the
+    // end of a step it is in the new axes without a turn by the new rotor. Turned from the world
+    // afresh, the next step's first kick waits for the rotor, which waits for the whole turning
+    // of this step: carried, the path from one step to the next is the turning alone, and the
+    // rotor is off it (cga2 under a world couple 66.6 -> 61.7 ns, cga4 162 -> 143). The carried c
+    // and R̃ c_W differ by the roundings of the turns (a few ε a step, and a bias of the order of
+    // the rotor's norm error when the same turn repeats), so the couple is turned from the world
+    // again every CarriedCouple::kMaxSteps steps: c stays within 2e-13 of R̃ c_W (measured over
+    // 2·10⁵ steps at 100 rad/s; 3e-9 without the turns from the world, integrator_cga2_test.cc).
+    //
     // Each stage's C(τ) turns by |a|, |a|² = (½τ/J_r)² |L|², with |L|² carried as a number
     // instead of summed from the kicked w: the flows keep |L_B| and L_B·c (C turns c about L_B;
     // a piece turns L_B and c by the same rotation) and a kick L += τ c makes them |L|² + 2τ L·c
     // + τ²|c|² and L·c + τ|c|², so the angle is ready before the kick's w, and the couple's
     // turn by C, the longest path from one kick to the next, is three operations shorter (cga4
-    // under a couple 162 -> 157 ns). The carried |L|² agrees with Σ(J w)² to a few ε; the rotor
-    // norm error of that order is what renormalise() takes off.
-    const Eigen::Vector3d& J = cache.J;
-    double LL = 0.0, Lc = 0.0, cc = 0.0;
+    // under a couple 162 -> 157 ns). They are carried across steps with c, and formed from w when c
+    // is turned afresh. The
+    // carried |L|² agrees with Σ(J w)² to a few ε; the rotor norm error of that order is what
+    // renormalise() takes off.
+    Cache::CarriedCouple& carried = cache.couple;
+    const double* c_W = couple_W->data();
+    double c[3], LL, Lc, cc;
+    if (carried.age < Cache::CarriedCouple::kMaxSteps &&
+        std::memcmp(c_W, carried.c_W, sizeof(carried.c_W)) == 0 &&
+        std::memcmp(r0.coeffs().data(), carried.rotor, sizeof(carried.rotor)) == 0 &&
+        std::memcmp(w_state, carried.w, sizeof(carried.w)) == 0) {
+      for (int j = 0; j < 3; ++j) c[j] = carried.c_B[j];
+      LL = carried.LL;
+      Lc = carried.Lc;
+      cc = carried.cc;
+      ++carried.age;
+    } else {
+      const Quat rq = toQuat(r0);
+      for (int j = 0; j < 3; ++j) c[j] = c_W[j];
+      turnInto({rq.w - 1.0, rq.x, rq.y, rq.z}, c);
+      const Eigen::Vector3d& J = cache.J;
+      LL = 0.0, Lc = 0.0, cc = 0.0;
 #pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) {
-      const double L = J[j] * w[j];
-      LL += L * L;
-      Lc += L * c[j];
-      cc += c[j] * c[j];
+      for (int j = 0; j < 3; ++j) {
+        const double L = J[j] * w[j];
+        LL += L * L;
+        Lc += L * c[j];
+        cc += c[j] * c[j];
+      }
+      carried.age = 0;
     }
 #pragma GCC unroll 8
     for (int i = 0; i < S; ++i) {
@@ -467,10 +461,22 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
       tau_kick = 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0));
     }
 #pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) w_state[j] = w[j] + (tau_kick * inv_J[j]) * c[j];
+    for (int j = 0; j < 3; ++j) {
+      w_state[j] = w[j] + (tau_kick * inv_J[j]) * c[j];
+      carried.w[j] = w_state[j];
+      carried.c_B[j] = c[j];
+      carried.c_W[j] = c_W[j];
+    }
+    carried.LL = LL + tau_kick * (2.0 * Lc + tau_kick * cc);
+    carried.Lc = Lc + tau_kick * cc;
+    carried.cc = cc;
   }
   renormalise(state);
   endFreeFlow(d, h, u_drift, u, state);
+  if (couple_W) {
+    std::memcpy(cache.couple.rotor, state.M_WB.rotorQuaternion().coeffs().data(),
+                sizeof(cache.couple.rotor));
+  }
   for (int j = 0; j < 3; ++j) state.omega_B.trans[j] = u[j];
 }
 
@@ -504,13 +510,13 @@ CGA_FMA_CLONES void compose(const Inertia& inertia, const Loads& loads, double l
     return;
   }
   const StepLoads step_loads(loads, inertia.mass());
-  if (step_loads.world_sums && (S > 1 || !step_loads.has_couple)) {
+  if (step_loads.world_sums) {
     composeWorldLoads<S>(
         step_loads.has_force ? &step_loads.f_W : nullptr, h / (inertia.mass() * lambda),
         step_loads.has_couple ? &step_loads.couple_W : nullptr, h, gamma, cache, state);
     return;
   }
-  kick(inertia, step_loads, lambda, 0.5 * gamma[0] * h, cache, state);
+  kick(inertia, loads, lambda, 0.5 * gamma[0] * h, cache, state);
   renormalise(state);
 #pragma GCC unroll 8
   for (int i = 0; i < S; ++i) {
@@ -518,13 +524,12 @@ CGA_FMA_CLONES void compose(const Inertia& inertia, const Loads& loads, double l
     FreeFlow f = beginFreeFlow(tau, cache, state.omega_B.rot.data());
     stagePieces(tau, cache, f);
     double u[3] = {state.omega_B.trans[0], state.omega_B.trans[1], state.omega_B.trans[2]};
-    endFreeFlow<(S > 1)>(f, tau, u, state);  // one stage: the turn as a loop (see turnInto)
+    endFreeFlow(f, tau, u, state);
     for (int j = 0; j < 3; ++j) {
       state.omega_B.rot[j] = f.w[j];
       state.omega_B.trans[j] = u[j];
     }
-    kick(inertia, step_loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), cache,
-         state);
+    kick(inertia, loads, lambda, 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0)), cache, state);
   }
 }
 

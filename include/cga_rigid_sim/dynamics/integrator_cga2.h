@@ -53,6 +53,21 @@ struct Cache {
   Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i, for the kicks' Δw = τ T/J
   double kappa[3] = {0, 0, 0};  ///< κ_i = 1 − J_i/J2: R_i turns by τ κ_i w_i
   double g[3] = {0, 0, 0};      ///< J_i/J2: C turns about ½ τ g w = ½ τ L_B/J2
+  /// A world couple carried in body axes from one step to the next (composeStrang): the couple
+  /// turned into the axes the last step ended in, and the numbers the next step's rotations need,
+  /// with what they were formed for. Used only when the world couple, the rotor and w are
+  /// bitwise those the last step left, and for at most kMaxSteps steps after a turn from the
+  /// world; otherwise the couple is turned from the world afresh.
+  struct CarriedCouple {
+    static constexpr int kMaxSteps = 1024;
+    double c_B[3] = {0, 0, 0};       ///< R̃ c_W, turned with the body
+    double LL = 0, Lc = 0, cc = 0;   ///< |L_B|², L_B·c_B, |c|², L_B = J w
+    double c_W[3] = {0, 0, 0};       ///< the world couple
+    double rotor[4] = {0, 0, 0, 0};  ///< the rotor (Eigen's x, y, z, w); no rotor is 0
+    double w[3] = {0, 0, 0};
+    int age = kMaxSteps;  ///< steps since the turn from the world; kMaxSteps: not valid
+  };
+  CarriedCouple couple;
 };
 
 /// One step h of the symmetric composition S(γ_1 h) ∘ … ∘ S(γ_s h) of the Strang step S above
@@ -64,8 +79,8 @@ struct Cache {
 /// the turning and is done once per step in closed form (the composition's drifts add up to the
 /// exact parabola for any γ with Σγ = 1); without a couple the turning is then the free one
 /// (merged as above), with one the stages' flows and kicks alternate with the couple carried in
-/// body axes and the motor updated once per step (for s > 1; cga2 with a couple kicks at the
-/// pose, which measured faster for one stage). cga2 is s = 1, γ = {1}; cga4 composes three
+/// body axes, from stage to stage and from step to step (Cache::CarriedCouple), and the motor
+/// updated once per step. cga2 is s = 1, γ = {1}; cga4 composes three
 /// stages (s = 1 and 3 are merged; other s run stage by stage). Requires Σγ = 1 for the drift
 /// merge.
 void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, double h,
