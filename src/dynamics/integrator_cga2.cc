@@ -347,7 +347,7 @@ struct StepLoads {
   bool has_force, has_couple;
   Eigen::Vector3d f_W, couple_W;
 
-  StepLoads(const Loads& l, double mass) {
+  CGA_ALWAYS_INLINE StepLoads(const Loads& l, double mass) {
     world_sums = l.hasApplied() && l.worldSums(mass, f_W, couple_W);
     has_force = world_sums && !f_W.isZero(0.0);
     has_couple = world_sums && !couple_W.isZero(0.0);
@@ -407,7 +407,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     // with turnInto written out).
     double w[3] = {w_state[0], w_state[1], w_state[2]};
     const Eigen::Vector3d& inv_J = cache.inv_J;
-    double tau_kick = 0.5 * gamma[0] * h;  // each kick is w += (τ/J)·c, one operation after c
+    double tau_kick = 0.5 * (gamma[0] * h);  // each kick is w += (τ/J)·c, one operation after c
     // The couple in body axes, c = R̃ c_W, carried from the last step (Cache::CarriedCouple): the
     // stages turn it with the body (by each C(τ), then piece by piece with L_B), so that at the
     // end of a step it is in the new axes without a turn by the new rotor. Turned from the world
@@ -474,7 +474,9 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
         const Quat dd = mul(d, f.d);
         d = {d.w + f.d.w + dd.w, d.x + f.d.x + dd.x, d.y + f.d.y + dd.y, d.z + f.d.z + dd.z};
       }
-      tau_kick = 0.5 * (tau + (i + 1 < S ? gamma[i + 1] * h : 0.0));
+      // The last kick as 0.5 * τ, the first one's expression when S = 1, so that GCC forms τ/J
+      // once.
+      tau_kick = i + 1 < S ? 0.5 * (tau + gamma[i + 1] * h) : 0.5 * tau;
     }
 #pragma GCC unroll 3
     for (int j = 0; j < 3; ++j) {
