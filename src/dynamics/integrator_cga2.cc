@@ -366,6 +366,12 @@ __attribute__((noinline)) void kick(const Inertia& inertia, const Loads& loads, 
   s.omega_B.trans += (tau / (m * lambda * lambda)) * T.trans;
 }
 
+// |L|² and L·c after a kick L += τ c (composeWorldLoads): |L|² + 2τ L·c + τ²|c|² and L·c + τ|c|².
+CGA_ALWAYS_INLINE void kickSums(double tau, double cc, double& LL, double& Lc) {
+  LL += tau * (2.0 * Lc + tau * cc);
+  Lc += tau * cc;
+}
+
 // The composition when every load is a world-axes sum at the centre (gravity alone, or
 // Loads::worldSums): force F_W and couple c_W fixed in the world for the step. The centre's
 // motion then does not depend on the turning: in the axes the body had at the step's start,
@@ -459,8 +465,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     for (int i = 0; i < S; ++i) {
 #pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) w[j] += (tau_kick * inv_J[j]) * c[j];
-      LL += tau_kick * (2.0 * Lc + tau_kick * cc);
-      Lc += tau_kick * cc;
+      kickSums(tau_kick, cc, LL, Lc);
       const double tau = gamma[i] * h;
       const double kr = 0.5 * tau * inv_J[kRef], z = (kr * kr) * LL;
       FreeFlow f = beginFreeFlow(tau, cache, w, &z);
@@ -485,8 +490,9 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
       carried.c_B[j] = c[j];
       carried.c_W[j] = c_W[j];
     }
-    carried.LL = LL + tau_kick * (2.0 * Lc + tau_kick * cc);
-    carried.Lc = Lc + tau_kick * cc;
+    kickSums(tau_kick, cc, LL, Lc);
+    carried.LL = LL;
+    carried.Lc = Lc;
     carried.cc = cc;
   }
   renormalise(state);
