@@ -113,6 +113,14 @@ Result<Inertia> Inertia::fromTensor(const std::string& body, double mass,
     axes = as;
   }
 
+  if (!(m[0] >= kMinMomentRatio * m[2])) {
+    os.precision(6);  // the moments as the URDF gives them, not their 17 digits
+    os << "inertia is too thin to simulate: its smallest principal moment " << m[0]
+       << " kg m^2 is below " << kMinMomentRatio << " of its largest " << m[2]
+       << " kg m^2 (kMinMomentRatio: round-off would spin it about that axis)";
+    return refuse(body, os.str());
+  }
+
   Inertia I;
   I.mass_ = mass;
   const bool eq01 = nearlyEqual(m[0], m[1]), eq12 = nearlyEqual(m[1], m[2]);

@@ -203,6 +203,7 @@ void Simulator::advance(std::uint64_t n) {
 
 void Simulator::publishAfterStep() {
   noteStartRefusals();
+  noteTreeFaults();
   const std::uint64_t s = world_->stepCount();
   if (params_.publish_clock && clock_ticks_.isTick(s)) publishClock();
   if (output_ticks_.isTick(s)) publishOutputs();
@@ -327,6 +328,19 @@ void Simulator::noteStartRefusals() {
   rejected_ += n - start_refusals_seen_ - 1;  // refuse() counts the last one
   start_refusals_seen_ = n;
   refuse(last->input + " (at its start)", last->message());
+}
+
+void Simulator::noteTreeFaults() {
+  const std::uint64_t n = world_->treeFaultCount();
+  if (n == tree_faults_seen_) return;
+  const auto now = std::chrono::steady_clock::now();  // wall clock, as in refuse()
+  if (fault_log_.shown && now - fault_log_.last < kRefusalLogPeriod) return;
+  const std::uint64_t unseen = n - tree_faults_seen_;
+  tree_faults_seen_ = n;
+  fault_log_ = Throttle{true, now, 0};
+  ROS_ERROR("simulator: %s (%llu such steps in all, %llu since the last report)",
+            world_->lastTreeFault()->message().c_str(), static_cast<unsigned long long>(n),
+            static_cast<unsigned long long>(unseen));
 }
 
 void Simulator::refuse(const std::string& what, const std::string& why) {

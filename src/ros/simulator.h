@@ -90,6 +90,9 @@ class Simulator {
   /// Counts and warns about the inputs the World refused when they were due to start (past a
   /// bound on active wrenches; sim::World::startRefusalCount).
   void noteStartRefusals();
+  /// Logs an error when the World undid tree steps that left a non-finite state
+  /// (sim::World::treeFaultCount): the first at once, then at most one per kRefusalLogPeriod.
+  void noteTreeFaults();
   /// Called by every service: the wall time it took must not count against real time.
   void markDisturbed() { disturbed_ = true; }
 
@@ -127,12 +130,14 @@ class Simulator {
   bool disturbed_ = false;
   std::uint64_t rejected_ = 0;
   std::uint64_t start_refusals_seen_ = 0;  ///< of world_->startRefusalCount()
+  std::uint64_t tree_faults_seen_ = 0;     ///< of world_->treeFaultCount(), logged
   struct Throttle {
     bool shown = false;
     std::chrono::steady_clock::time_point last{};
     std::uint64_t suppressed = 0;
   };
   std::map<std::string, Throttle> refusal_log_;
+  Throttle fault_log_;
   /// Step count of the last tf and of the last /clock sent (none yet: UINT64_MAX), and the
   /// topology version of the last /tf_static.
   std::uint64_t last_tf_step_ = UINT64_MAX;

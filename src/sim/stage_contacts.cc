@@ -85,6 +85,23 @@ SolverBody solverBody(const Model& model, const dynamics::BodyState& s,
 
 namespace {
 
+// Whether a tree's kick is usable: its mass matrix factored and its kicked ν finite.
+bool kickFinite(const SolverTree& k) {
+  return k.llt.info() == Eigen::Success && k.nu.allFinite() && k.llt.matrixLLT().allFinite();
+}
+
+// Removes the contacts that touch a link (or the floating root) of tree t.
+void dropContactsOf(const Model& model, int t, std::vector<Contact>& found) {
+  const auto inTree = [&](int j) {
+    const int i = j < 0 ? -1 : model.moving_of_body[j];
+    return i >= 0 && model.tree_of_moving[i] == t;
+  };
+  found.erase(
+      std::remove_if(found.begin(), found.end(),
+                     [&](const Contact& c) { return inTree(c.body_a) || inTree(c.body_b); }),
+      found.end());
+}
+
 // The contacts of the awake bodies: detected, solved, applied.
 void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   S.found.clear();
@@ -101,21 +118,36 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   const double h = model.config.dt, lambda = model.lambda;
 
   // Slots for every moving body in a contact (and its tree), and their kicked velocities.
-  S.slot_of_moving.assign(data.bodies.size(), -1);
-  S.moving_of_slot.clear();
-  S.solver_tree_of_tree.assign(model.trees.size(), -1);
-  S.tree_of_solver_tree.clear();
-  S.slot_a.resize(S.found.size());
-  S.slot_b.resize(S.found.size());
-  for (std::size_t k = 0; k < S.found.size(); ++k) {
-    S.slot_a[k] = slotOf(model, S, S.found[k].body_a);
-    S.slot_b[k] = slotOf(model, S, S.found[k].body_b);
+  // Trees are kicked as a whole; their links' slots read the kicked velocities. A tree whose
+  // kick is not finite (its mass matrix cannot be factored at this pose) takes no part: its
+  // contacts are dropped and the slots made again without them; the tree stage then undoes
+  // its step (stage_trees.cc, doc/articulated.md#faults).
+  for (;;) {
+    S.slot_of_moving.assign(data.bodies.size(), -1);
+    S.moving_of_slot.clear();
+    S.solver_tree_of_tree.assign(model.trees.size(), -1);
+    S.tree_of_solver_tree.clear();
+    S.slot_a.resize(S.found.size());
+    S.slot_b.resize(S.found.size());
+    for (std::size_t k = 0; k < S.found.size(); ++k) {
+      S.slot_a[k] = slotOf(model, S, S.found[k].body_a);
+      S.slot_b[k] = slotOf(model, S, S.found[k].body_b);
+    }
+    S.trees.resize(S.tree_of_solver_tree.size());
+    S.tree_kicked.resize(S.tree_of_solver_tree.size());
+    bool dropped = false;
+    for (std::size_t u = 0; u < S.trees.size(); ++u) {
+      kickTree(model, data, S.tree_of_solver_tree[u], S.trees[u], S.tree_kicked[u]);
+      if (kickFinite(S.trees[u])) continue;
+      dropContactsOf(model, S.tree_of_solver_tree[u], S.found);
+      dropped = true;
+    }
+    if (!dropped) break;
+    if (S.found.empty()) {
+      data.contacts.clear();
+      return;
+    }
   }
-  // Trees: kicked as a whole; their links' slots read the kicked velocities.
-  S.trees.resize(S.tree_of_solver_tree.size());
-  S.tree_kicked.resize(S.tree_of_solver_tree.size());
-  for (std::size_t u = 0; u < S.trees.size(); ++u)
-    kickTree(model, data, S.tree_of_solver_tree[u], S.trees[u], S.tree_kicked[u]);
   S.kicked_B.resize(S.moving_of_slot.size());
   S.momentum.resize(S.moving_of_slot.size());
   S.v_start.resize(S.moving_of_slot.size());

@@ -57,6 +57,26 @@ void endContactStep(const Model& model, Data& data, int t) {
   td.integrator->reset();
 }
 
+// A step that left non-finite numbers is undone: the tree is set at rest at the pose it had
+// before the step (before the contacts stage too, which may have kicked it), and the fault is
+// counted (World::lastTreeFault). The integrators fail so only when
+// the tree's mass matrix cannot be factored in double precision at some pose of the step — in
+// practice, links placed implausibly far from their joints (10⁷ m in the fuzz findings,
+// doc/articulated.md#faults). At rest the tree is tried again in the next step; a tree that
+// fails there too stays where it is, and every such step is counted.
+void undoFaultyStep(const Model& model, Data& data, int t) {
+  TreeData& td = data.trees[t];
+  td.state = td.before;
+  td.state.v.setZero();
+  td.state.omega_0 = cga::Bivelocity();
+  td.contact_kicked = false;  // the kick is undone with the rest
+  td.integrator->reset();
+  TreeFaults& f = data.tree_faults;
+  ++f.count;
+  f.tree = model.trees[t].name;
+  f.step = data.step_count + 1;
+}
+
 // The links' states from the tree's after its step: from the kinematics the integrator left,
 // when it has them, else recomputed (writeTreeBodies).
 void writeBodies(const Model& model, Data& data, int t) {
@@ -76,6 +96,7 @@ void loadTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
+    td.before = td.state;  // for undoFaultyStep (same sizes every step: no allocation)
     // The actuators: held effort plus the timed ones, clamped to <limit effort>.
     td.loads.effort = td.held_effort;
     for (const ActiveEffort& a : td.timed) td.loads.effort[a.joint] += a.effort;
@@ -99,12 +120,16 @@ void integrateTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
-    if (td.contact_kicked) {  // loads and impulses are in ν already: the step drifts
-      td.integrator->step(tm.body, td.drift_loads, model.config.dt, td.state);
+    // Loads and impulses are in ν already after a contact kick: the step drifts.
+    td.integrator->step(tm.body, td.contact_kicked ? td.drift_loads : td.loads, model.config.dt,
+                        td.state);
+    if (!td.state.allFinite()) {
+      undoFaultyStep(model, data, t);
+      writeTreeBodies(model, data, t);
+    } else if (td.contact_kicked) {
       endContactStep(model, data, t);
       writeTreeBodies(model, data, t);
     } else {
-      td.integrator->step(tm.body, td.loads, model.config.dt, td.state);
       writeBodies(model, data, t);
     }
   }

@@ -146,6 +146,18 @@ std::optional<Error> World::lastStartRefusal() const {
   return Error(wrench ? "apply_wrench" : "apply_joint_effort", wrench ? "body" : "joint", rule);
 }
 
+std::uint64_t World::treeFaultCount() const { return impl_->data.tree_faults.count; }
+std::optional<Error> World::lastTreeFault() const {
+  const TreeFaults& f = impl_->data.tree_faults;
+  if (f.count == 0) return std::nullopt;
+  return Error("step", "tree",
+               "tree '" + f.tree + "': step " + std::to_string(f.step) +
+                   " left a non-finite state; it was undone and the tree is at rest at its pose "
+                   "before the step (its mass matrix cannot be resolved in double precision: "
+                   "links implausibly far from their joints or too light for their offsets, "
+                   "doc/articulated.md#faults)");
+}
+
 Result<bool> World::setJointEfforts(const JointEffortInput& in) {
   return queueJointEfforts(impl_->model, impl_->data, in);
 }

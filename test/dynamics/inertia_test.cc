@@ -80,6 +80,20 @@ TEST(InertiaValidation, RefusesNonFiniteAsymmetricAndIndefiniteTensors) {
 // The triangle inequality I1 + I2 ≥ I3 (the largest moment at most the sum of the others): refused
 // by default; with kNearestPhysical the moments are projected along (1, 1, −1) onto I1 + I2 = I3
 // (diag(1, 1, 3) → (4/3, 4/3, 8/3), which is symmetric) and the warning says what changed.
+TEST(InertiaValidation, RefusesMomentsTooThinToSimulate) {
+  // The bound is kMinMomentRatio (1e-12) of the largest moment; 0.5e-12 and 2e-12 are clear of
+  // the diagonalisation's round-off (1e-16 of the largest) on either side.
+  EXPECT_TRUE(Inertia::fromPrincipal("rod", 1.0, Vector3d(1, 1, 2e-12)).ok());
+  auto thin = Inertia::fromPrincipal("rod", 1.0, Vector3d(1, 1, 0.5e-12));
+  ASSERT_FALSE(thin.ok());
+  EXPECT_EQ(thin.error(),
+            "body 'rod': inertia is too thin to simulate: its smallest principal moment 5e-13 "
+            "kg m^2 is below 1e-12 of its largest 1 kg m^2 (kMinMomentRatio: round-off would "
+            "spin it about that axis)");
+  // A subnormal moment (the URDF fuzz target's 2e-309 kg m^2) is positive but refused too.
+  EXPECT_FALSE(Inertia::fromPrincipal("ball", 3.0, Vector3d(4.32e-4, 4.32e-4, 2e-309)).ok());
+}
+
 TEST(InertiaValidation, TriangleInequalityRefuseOrNearestPhysical) {
   auto refused = Inertia::fromTensor("rod", 1.0, diag(1, 1, 3));
   ASSERT_FALSE(refused.ok());

@@ -37,6 +37,12 @@ enum class TrianglePolicy {
 constexpr double kEqualMomentsRelTol = 1e-12;
 /// Slack of the triangle inequality check (relative).
 constexpr double kTriangleRelSlack = 1e-9;
+/// The smallest principal moment must be at least this fraction of the largest. About the
+/// thinnest axis ω = L/J turns the round-off of any moment (≈ ε|L|) into a spin of ε|L|/J_min:
+/// at this ratio round-off spins it at most ~1e-4 of the body's other rates; a subnormal moment
+/// (the URDF fuzz target's 2e-309 kg m²) made it infinite. A solid rod this thin has a
+/// radius 4e-7 of its length (J_axial/J_transverse = 6 r²/ℓ²).
+constexpr double kMinMomentRatio = 1e-12;
 
 class Inertia {
  public:

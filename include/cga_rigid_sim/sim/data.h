@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
@@ -110,6 +111,16 @@ struct TreeData {
   Eigen::VectorXd contact_shift;      ///< the position correction's pseudo-velocity pν
   double contact_energy_start = 0.0;  ///< J, kinetic + potential before the kick
   double contact_power_start = 0.0;   ///< W, of the inputs before the kick
+  /// The state before this step, for undoing a step that left non-finite numbers (TreeFaults).
+  dynamics::TreeState before;
+};
+
+/// Tree steps that left a non-finite state, undone: the tree was set at rest at the pose it
+/// had before the step (stage_trees.cc). Counted, and the last one described.
+struct TreeFaults {
+  std::uint64_t count = 0;
+  std::string tree;        ///< the last one's name (TreeModel::name)
+  std::uint64_t step = 0;  ///< the step it happened in (1 = the first step)
 };
 
 /// Inputs refused when due to start, past a bound on active wrenches (WorldConfig): counted,
@@ -145,6 +156,7 @@ struct Data {
   };
   std::vector<Expiry> expiries;
   StartRefusals start_refusals;  ///< wrenches and timed efforts refused at start
+  TreeFaults tree_faults;        ///< tree steps undone for non-finite results
 
   /// The contacts of the last step, with their impulses (stage_contacts.cc).
   std::vector<Contact> contacts;

@@ -179,6 +179,13 @@ class World {
   std::uint64_t startRefusalCount() const;
   std::optional<Error> lastStartRefusal() const;
 
+  /// Tree steps that left a non-finite state and were undone, the tree set at rest at its pose
+  /// before the step (counted since creation, reset included; doc/articulated.md#faults), and
+  /// the last one: "step.tree: tree 'base_link': step 1 left a non-finite state; it was undone
+  /// and the tree is at rest at its pose before the step (…)".
+  std::uint64_t treeFaultCount() const;
+  std::optional<Error> lastTreeFault() const;
+
  private:
   World();
   struct Impl;
