@@ -59,9 +59,9 @@ void endContactStep(const Model& model, Data& data, int t) {
 
 // A step that left non-finite numbers is undone: the tree is set at rest at the pose it had
 // before the step (before the contacts stage too, which may have kicked it), and the fault is
-// counted (World::lastTreeFault). The integrators fail so only when
-// the tree's mass matrix cannot be factored in double precision at some pose of the step — in
-// practice, links placed implausibly far from their joints (10⁷ m in the fuzz findings,
+// counted (World::lastTreeFault). The integrators fail so only when the tree's mass matrix
+// cannot be factored in double precision at some pose of the step: in practice, a link
+// implausibly far from its joint (10⁷ m and more in the fuzz findings,
 // doc/articulated.md#faults). At rest the tree is tried again in the next step; a tree that
 // fails there too stays where it is, and every such step is counted.
 void undoFaultyStep(const Model& model, Data& data, int t) {
