@@ -285,11 +285,12 @@ CGA_ALWAYS_INLINE void stagePieces(double tau, const Cache& c, FreeFlow& f,
 // it (the projectile at h = 0.05 s: 5e-14 of |r|² and 15× the round-off allowance in the CoM after
 // 2000 steps). e is exact (Sterbenz) and small, so M + eM rounds without bias; the scale (3 − n)/2
 // instead rounds to 1 or 1 − ε/2 and shrank the motor a little every step (the CoM 19× the
-// allowance after 10⁶ steps of cga4). Where it sits in program order was measured: with kicks at
-// the pose, after the opening kick (which then reads the rotor as the last step left it, norm
-// 1 + O(ε), and does not wait for this: cga2 under a world couple 75 -> 66 ns; at the end of the
-// flow it lengthened the chain into the closing kick by 9 ns), otherwise just before the motor
-// update (5 ns cheaper than at the start).
+// allowance after 10⁶ steps of cga4). Where it sits in program order was measured: in the general
+// path (kicks at the pose), after the opening kick, which then reads the rotor as the last step
+// left it (norm 1 + O(ε)) and does not wait for this (cga2 under a world couple 75 -> 66 ns when
+// that couple still took this path; at the end of the flow it lengthened the chain into the
+// closing kick by 9 ns); in composeWorldLoads just before the motor update (5 ns cheaper than at
+// the start).
 CGA_ALWAYS_INLINE void renormalise(BodyState& s) {
   const Quat r = toQuat(s.M_WB.rotorQuaternion()), q = toQuat(s.M_WB.dualQuaternion());
   const double n = (r.w * r.w + r.x * r.x) + (r.y * r.y + r.z * r.z);

@@ -80,9 +80,8 @@ struct Cache {
 /// exact parabola for any γ with Σγ = 1); without a couple the turning is then the free one
 /// (merged as above), with one the stages' flows and kicks alternate with the couple carried in
 /// body axes, from stage to stage and from step to step (Cache::CarriedCouple), and the motor
-/// updated once per step. cga2 is s = 1, γ = {1}; cga4 composes three
-/// stages (s = 1 and 3 are merged; other s run stage by stage). Requires Σγ = 1 for the drift
-/// merge.
+/// updated once per step. cga2 is s = 1, γ = {1}; cga4 composes three stages (s = 1 and 3 are
+/// merged; other s run stage by stage). Requires Σγ = 1 for the drift merge.
 void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, double h,
                    const double* gamma, int stages, Cache& cache, BodyState& state);
 
