@@ -58,22 +58,23 @@ void endContactStep(const Model& model, Data& data, int t) {
 }
 
 // A step that left non-finite numbers is undone: the tree is set at rest at the pose it had
-// before the step (before the contacts stage too, which may have kicked it), and the fault is
+// before the step (the contacts stage may have kicked it, which is undone too), and the fault is
 // counted (World::lastTreeFault). The integrators fail so only when the tree's mass matrix
 // cannot be factored in double precision at some pose of the step: in practice, a link
 // implausibly far from its joint (10⁷ m and more in the fuzz findings,
 // doc/articulated.md#faults). At rest the tree is tried again in the next step; a tree that
 // fails there too stays where it is, and every such step is counted.
-void undoFaultyStep(const Model& model, Data& data, int t) {
+void undoFaultyStep(Data& data, int t) {
   TreeData& td = data.trees[t];
-  td.state = td.before;
+  td.state.q = td.q_before;
+  td.state.M_W0 = td.M_W0_before;
   td.state.v.setZero();
   td.state.omega_0 = cga::Bivelocity();
   td.contact_kicked = false;  // the kick is undone with the rest
   td.integrator->reset();
   TreeFaults& f = data.tree_faults;
   ++f.count;
-  f.tree = model.trees[t].name;
+  f.tree = t;
   f.step = data.step_count + 1;
 }
 
@@ -96,7 +97,6 @@ void loadTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
-    td.before = td.state;  // for undoFaultyStep (same sizes every step: no allocation)
     // The actuators: held effort plus the timed ones, clamped to <limit effort>.
     td.loads.effort = td.held_effort;
     for (const ActiveEffort& a : td.timed) td.loads.effort[a.joint] += a.effort;
@@ -120,11 +120,15 @@ void integrateTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
+    // The contacts stage changed only velocities: this is the pose before the step. (Copies
+    // between vectors of the same size: no allocation.)
+    td.q_before = td.state.q;
+    td.M_W0_before = td.state.M_W0;
     // Loads and impulses are in ν already after a contact kick: the step drifts.
     td.integrator->step(tm.body, td.contact_kicked ? td.drift_loads : td.loads, model.config.dt,
                         td.state);
     if (!td.state.allFinite()) {
-      undoFaultyStep(model, data, t);
+      undoFaultyStep(data, t);
       writeTreeBodies(model, data, t);
     } else if (td.contact_kicked) {
       endContactStep(model, data, t);

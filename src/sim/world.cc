@@ -150,8 +150,12 @@ std::uint64_t World::treeFaultCount() const { return impl_->data.tree_faults.cou
 std::optional<Error> World::lastTreeFault() const {
   const TreeFaults& f = impl_->data.tree_faults;
   if (f.count == 0) return std::nullopt;
+  const std::vector<TreeModel>& trees = impl_->model.trees;
+  const std::string who = f.tree < static_cast<int>(trees.size())
+                              ? "tree '" + trees[f.tree].name + "'"
+                              : "a tree";  // (trees are not removed; a guard all the same)
   return Error("step", "tree",
-               "tree '" + f.tree + "': step " + std::to_string(f.step) +
+               who + ": step " + std::to_string(f.step) +
                    " left a non-finite state; it was undone and the tree is at rest at its pose "
                    "before the step (its mass matrix cannot be resolved in double precision: "
                    "links implausibly far from their joints or too light for their offsets, "

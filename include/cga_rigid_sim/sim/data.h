@@ -12,7 +12,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
@@ -111,15 +110,17 @@ struct TreeData {
   Eigen::VectorXd contact_shift;      ///< the position correction's pseudo-velocity pν
   double contact_energy_start = 0.0;  ///< J, kinetic + potential before the kick
   double contact_power_start = 0.0;   ///< W, of the inputs before the kick
-  /// The state before this step, for undoing a step that left non-finite numbers (TreeFaults).
-  dynamics::TreeState before;
+  /// The pose before this step (joint positions, floating root's motor), for undoing a step
+  /// that left non-finite numbers (TreeFaults); the undone tree is at rest, so no velocities.
+  Eigen::VectorXd q_before;
+  cga::Motor M_W0_before;
 };
 
 /// Tree steps that left a non-finite state, undone: the tree was set at rest at the pose it
 /// had before the step (stage_trees.cc). Counted, and the last one described.
 struct TreeFaults {
   std::uint64_t count = 0;
-  std::string tree;        ///< the last one's name (TreeModel::name)
+  int tree = -1;           ///< the last one's tree (the Model's index: trees are never removed)
   std::uint64_t step = 0;  ///< the step it happened in (1 = the first step)
 };
 
