@@ -331,7 +331,8 @@ const std::vector<std::string>& knownPrivateParams() {
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
       "max_impulse", "relax_inertia", "threads", "curvature",
       // contacts
-      "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping",
+      "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping", "self_collision",
+      "srdf_file", "self_collision_pairs",
       // ~markers (README "Seeing the simulation")
       "marker_length", "marker_angular_momentum_ref", "marker_angular_velocity_ref",
       "marker_force_ref",
@@ -434,6 +435,25 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_mu", &p.world.contact_mu, "0.5"));
   CGA_RIGID_SIM_READ(readNumber(pnh, "contact_restitution", &p.world.contact_restitution, "0.0"));
   CGA_RIGID_SIM_READ(readBool(pnh, "contact_sleeping", &p.world.contact_sleeping));
+  // ~self_collision: auto | all | none (doc/contacts.md#self-collision).
+  std::string self_collision = scene::toString(p.world.self_collision);
+  CGA_RIGID_SIM_READ(readString(pnh, "self_collision", &self_collision));
+  if (auto mode = scene::parseSelfCollisionMode(self_collision))
+    p.world.self_collision = *mode;
+  else
+    return Error{"~self_collision: must be auto, all or none (got '" + self_collision + "')"};
+  // The SRDF: ~srdf_file (explicit, private) wins over robot_description_semantic.
+  CGA_RIGID_SIM_READ(readString(pnh, "srdf_file", &p.srdf_file));
+  XmlRpcValue semantic;
+  const std::string semantic_name = nh.resolveName("robot_description_semantic");
+  if (!p.srdf_file.empty()) {
+    p.srdf_source_name = p.srdf_file;
+  } else if (nh.getParam("robot_description_semantic", semantic)) {
+    if (semantic.getType() != XmlRpcValue::TypeString)
+      return wrongType(semantic_name, "an SRDF string", semantic);
+    p.srdf_xml = static_cast<const std::string&>(semantic);
+    p.srdf_source_name = semantic_name;
+  }
   XmlRpcValue initial_state;
   auto has_initial_state = readDictionary(pnh, "initial_state", &initial_state,
                                           "{racket_handle: {angular_velocity: [0.0, 10.0, 0.1]}}");

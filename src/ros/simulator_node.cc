@@ -2,13 +2,18 @@
 // it (simulator.h). A load failure exits with status 1 and the loader's message (ROS_FATAL).
 #include <ros/ros.h>
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/scene/scene_summary.h"
+#include "cga_rigid_sim/scene/srdf.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "simulator.h"
@@ -35,6 +40,26 @@ int main(int argc, char** argv) {
     ROS_FATAL("simulator: cannot load the scene: %s", scene.error().c_str());
     return 1;
   }
+  // The SRDF's collision rules (~srdf_file or robot_description_semantic), before the World
+  // decides which pairs of a robot's links collide.
+  if (!params->srdf_source_name.empty()) {
+    std::string srdf = params->srdf_xml;
+    if (!params->srdf_file.empty()) {
+      std::ifstream file(params->srdf_file, std::ios::binary);
+      if (!file) {
+        ROS_FATAL("simulator: ~srdf_file: cannot read '%s': %s", params->srdf_file.c_str(),
+                  std::strerror(errno));
+        return 1;
+      }
+      std::ostringstream text;
+      text << file.rdbuf();
+      srdf = text.str();
+    }
+    if (auto err = scene::applySrdf(*scene, srdf, params->srdf_source_name)) {
+      ROS_FATAL("simulator: %s", err->message().c_str());
+      return 1;
+    }
+  }
   for (const auto& w : scene->warnings) ROS_WARN("simulator: %s", w.c_str());
   const std::size_t scene_warnings = scene->warnings.size();
   node::logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
@@ -53,6 +78,12 @@ int main(int argc, char** argv) {
   const auto& all = (*world)->scene().warnings;
   for (std::size_t k = scene_warnings; k < all.size(); ++k)
     ROS_WARN("simulator: %s", all[k].c_str());
+  // Which pairs of a robot's links collide: summarised in the log, listed in full as the
+  // parameter ~self_collision_pairs ("link1 link2" per pair).
+  for (const auto& line : (*world)->selfCollisionSummary()) ROS_INFO("%s", line.c_str());
+  std::vector<std::string> pairs;
+  for (const auto& [a, b] : (*world)->selfCollisionPairs()) pairs.push_back(a + " " + b);
+  pnh.setParam("self_collision_pairs", pairs);
 
   node::Simulator simulator(nh, pnh, *params, std::move(*world));
   return simulator.run();

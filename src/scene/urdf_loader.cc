@@ -607,6 +607,8 @@ Result<Scene> Loader::load(const std::string& xml) {
   // (5) the joints' initial positions and the bodies they place, then the initial state.
   setDefaultInitialPositions(&scene);
   placeJointChildren(scene);
+  scene.self_collision.gazebo_model = xml_.self_collide_model;
+  scene.self_collision.gazebo_links = std::move(xml_.self_collide_links);
   scene.warnings = std::move(xml_.warnings);
   scene.warnings.insert(scene.warnings.end(), warnings_.begin(), warnings_.end());
 

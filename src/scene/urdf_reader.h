@@ -83,6 +83,7 @@ class Reader {
   std::optional<Error> readContact(const XMLElement* e, const std::string& owner,
                                    SurfaceParameters* surface) const;
   void readGazebo(const XMLElement* e);
+  std::optional<Error> readSelfCollide(const XMLElement* e);
   std::optional<Error> applyGazeboFriction();
   std::optional<Error> readLink(const XMLElement* e, int order);
   std::optional<Error> readJoint(const XMLElement* e, int order);
@@ -101,6 +102,7 @@ class Reader {
   std::vector<JointEdge> edges_;
   std::vector<std::string> link_names_;  // document order
   std::vector<GazeboFriction> gazebo_;   // document order
+  std::vector<std::pair<std::string, int>> self_collide_lines_;  // <self_collide> per link, line
 };
 
 }  // namespace detail

@@ -440,13 +440,43 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
       if (auto err = readJoint(e, order)) return *err;
     } else if (std::strcmp(e->Name(), "gazebo") == 0) {
       readGazebo(e);
+      if (auto err = readSelfCollide(e)) return *err;
     }
   }
   if (xml.find(kExtensionPrefix) != std::string::npos)
     if (auto err = checkExtensionPlacement(robot)) return *err;
   if (auto err = checkTree()) return *err;
   if (auto err = applyGazeboFriction()) return *err;
+  for (const auto& [link, line] : self_collide_lines_)
+    if (!out_.links.count(link))
+      return fail(line, "<gazebo reference=" + inQuotes(link) + "> gives <self_collide>, but " +
+                            inQuotes(link) + " is not a link of this URDF");
   return std::move(out_);
+}
+
+// Gazebo's <self_collide> (true/false, 1/0), of the model (<gazebo> without reference) or of one
+// link; the last one written wins, as in Gazebo. Links are checked once all are known.
+std::optional<Error> Reader::readSelfCollide(const XMLElement* e) {
+  const XMLElement* c = e->FirstChildElement("self_collide");
+  if (!c) return std::nullopt;
+  const char* raw = c->GetText();
+  std::string text = raw ? raw : "";
+  text.erase(0, text.find_first_not_of(" \t\n\r"));
+  text.erase(text.find_last_not_of(" \t\n\r") + 1);
+  bool value = false;
+  if (text == "true" || text == "1")
+    value = true;
+  else if (text != "false" && text != "0")
+    return fail(c->GetLineNum(), "<self_collide> must be true or false (got " + inQuotes(text) +
+                                     ")");
+  const char* reference = e->Attribute("reference");
+  if (!reference) {
+    out_.self_collide_model = value;
+  } else {
+    out_.self_collide_links[reference] = value;
+    self_collide_lines_.emplace_back(reference, c->GetLineNum());
+  }
+  return std::nullopt;
 }
 
 bool parseUrdfNumber(const char* text, double* out) {

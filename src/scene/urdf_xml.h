@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <map>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -77,6 +78,9 @@ struct UrdfXml {
   std::string robot_name;
   std::unordered_map<std::string, LinkXml> links;
   std::unordered_map<std::string, JointXml> joints;
+  /// Gazebo's <self_collide>: the model's (<gazebo> without reference) and each link's.
+  std::optional<bool> self_collide_model;
+  std::map<std::string, bool> self_collide_links;
   std::vector<std::string> warnings;  ///< e.g. Gazebo's mu1 and mu2 differ
 };
 

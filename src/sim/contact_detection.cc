@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cga_rigid_sim/dynamics/derived.h"
+#include "cga_rigid_sim/scene/convex_hull.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -24,8 +26,9 @@ class CollisionCache {
     int body = -1;
     int shape = -1;
     std::shared_ptr<fcl::CollisionGeometryd> geometry;
-    std::vector<Eigen::Vector3d> vertices_S;  ///< box corners, mesh vertices (plane test)
-    double bound = 0.0;                       ///< bounding radius about S's origin, m
+    std::vector<Eigen::Vector3d> vertices_S;  ///< box corners, mesh hull vertices (plane test)
+    Eigen::Vector3d centre_S = Eigen::Vector3d::Zero();  ///< the bounding sphere's centre in S
+    double bound = 0.0;  ///< bounding radius about centre_S, m
     /// The FCL geometry is this much larger on every side (0 for meshes), so that bodies
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
@@ -41,14 +44,13 @@ class CollisionCache {
   bool built = false;
   std::uint64_t topology = 0;
   std::vector<Shape> shapes;
-  /// Pairs of bodies (smaller index first) joined by a joint: a link never collides with its
-  /// parent, whose shapes it usually overlaps at the joint. Sorted.
-  std::vector<std::pair<int, int>> joined;
   // Scratch, reused every step.
   std::vector<Eigen::Isometry3d> pose_W;  ///< per shape, M_WS at the step's start
+  std::vector<Eigen::Vector3d> centre_W;  ///< per shape, its bounding sphere's centre then
   std::vector<Interval> sweep;
   std::vector<int> awake_at;  ///< the positions in `sweep` of the awake shapes, ascending
   std::vector<fcl::Contactd> fcl_contacts;
+  std::vector<std::pair<Eigen::Vector3d, int>> plane_points;  ///< one mesh's, before reduction
 };
 
 std::shared_ptr<CollisionCache> makeCollisionCache() { return std::make_shared<CollisionCache>(); }
@@ -101,27 +103,37 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
       out.bound = std::hypot(s.radius, 0.5 * s.length);
       break;
     case Shape::Kind::kMesh: {
-      // FCL's GJK only asks a convex shape for its extreme vertices: a mesh collides as the
-      // convex hull of its vertices (doc/contacts.md says so).
-      auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(distinctVertices(s.mesh));
+      // A mesh collides as its convex hull (doc/contacts.md says so): FCL's GJK asks a convex
+      // shape for its extreme vertices, and the plane can touch hull vertices only. A flat mesh
+      // (no volume) keeps its own triangles.
+      scene::ConvexHull hull = scene::convexHull(s.mesh.vertices);
+      auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(hull.vertices);
       auto faces = std::make_shared<std::vector<int>>();
-      std::vector<int> index(s.mesh.vertices.size());
-      for (std::size_t k = 0; k < s.mesh.vertices.size(); ++k)
-        index[k] = static_cast<int>(
-            std::lower_bound(vertices->begin(), vertices->end(), s.mesh.vertices[k],
-                             [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-                               return std::lexicographical_compare(a.data(), a.data() + 3, b.data(),
-                                                                   b.data() + 3);
-                             }) -
-            vertices->begin());
-      for (const auto& t : s.mesh.triangles) {
-        faces->push_back(3);
-        for (int c : t) faces->push_back(index[c]);
+      int face_count = static_cast<int>(hull.triangles.size());
+      if (face_count > 0) {
+        for (const auto& t : hull.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+      } else {
+        *vertices = distinctVertices(s.mesh);
+        std::vector<int> index(s.mesh.vertices.size());
+        const auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+          return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+        };
+        for (std::size_t k = 0; k < s.mesh.vertices.size(); ++k)
+          index[k] = static_cast<int>(
+              std::lower_bound(vertices->begin(), vertices->end(), s.mesh.vertices[k], less) -
+              vertices->begin());
+        for (const auto& t : s.mesh.triangles) faces->insert(faces->end(), {3, index[t[0]], index[t[1]], index[t[2]]});
+        face_count = static_cast<int>(s.mesh.triangles.size());
       }
       out.vertices_S = *vertices;
-      for (const auto& v : *vertices) out.bound = std::max(out.bound, v.norm());
-      out.geometry = std::make_shared<fcl::Convexd>(
-          vertices, static_cast<int>(s.mesh.triangles.size()), faces);
+      // The bounding sphere about the centre of the vertices' box, not the mesh's origin (a
+      // link's mesh often sits far from its frame's origin).
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+      Eigen::Vector3d hi = -lo;
+      for (const auto& v : *vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      out.centre_S = vertices->empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (lo + hi));
+      for (const auto& v : *vertices) out.bound = std::max(out.bound, (v - out.centre_S).norm());
+      out.geometry = std::make_shared<fcl::Convexd>(vertices, face_count, faces);
       break;
     }
   }
@@ -135,13 +147,8 @@ void build(const Model& model, CollisionCache& cache) {
     for (int k = 0; k < static_cast<int>(bodies[j].shapes.size()); ++k)
       cache.shapes.push_back(makeShape(bodies[j].shapes[k], j, k));
   }
-  cache.joined.clear();
-  for (const scene::JointModel& jm : model.scene.joints)
-    if (jm.parent_body >= 0)
-      cache.joined.emplace_back(std::min(jm.parent_body, jm.child_body),
-                                std::max(jm.parent_body, jm.child_body));
-  std::sort(cache.joined.begin(), cache.joined.end());
   cache.pose_W.resize(cache.shapes.size());
+  cache.centre_W.resize(cache.shapes.size());
   cache.sweep.reserve(cache.shapes.size());
   cache.topology = model.topology_version;
   cache.built = true;
@@ -172,6 +179,40 @@ void combine(const Model& model, const scene::SurfaceParameters& a,
   c.restitution = std::max(a.restitution.value_or(e0), b.restitution.value_or(e0));
 }
 
+// Reduces points of a contact patch with the plane (world, normal +z) to at most four, in a
+// deterministic way: the deepest; the one farthest from it across the plane; the one that makes
+// the largest triangle with those two; the one that adds the most area to that triangle. The
+// four span the patch, so a body resting on them is held as on the whole patch.
+void reducePatch(std::vector<std::pair<Eigen::Vector3d, int>>& points) {
+  const std::size_t n = points.size();
+  if (n <= 4) return;
+  const auto xy = [&points](std::size_t k) { return Eigen::Vector2d(points[k].first.head<2>()); };
+  const auto area = [&](std::size_t a, std::size_t b, std::size_t c) {  // twice the triangle's
+    const Eigen::Vector2d u = xy(b) - xy(a), w = xy(c) - xy(a);
+    return std::abs(u.x() * w.y() - u.y() * w.x());
+  };
+  std::size_t pick[4] = {0, 0, 0, 0};
+  for (std::size_t k = 1; k < n; ++k)
+    if (points[k].first.z() < points[pick[0]].first.z()) pick[0] = k;
+  double best = -1.0;
+  for (std::size_t k = 0; k < n; ++k)
+    if (const double d = (xy(k) - xy(pick[0])).squaredNorm(); d > best) best = d, pick[1] = k;
+  best = -1.0;
+  for (std::size_t k = 0; k < n; ++k)
+    if (const double a = area(pick[0], pick[1], k); a > best) best = a, pick[2] = k;
+  best = -1.0;
+  const double base = area(pick[0], pick[1], pick[2]);
+  for (std::size_t k = 0; k < n; ++k)
+    if (const double gain = area(pick[0], pick[1], k) + area(pick[1], pick[2], k) +
+                            area(pick[2], pick[0], k) - base;
+        gain > best)
+      best = gain, pick[3] = k;
+  std::sort(pick, pick + 4);  // in vertex order, as detection reports them
+  const std::size_t count = std::unique(pick, pick + 4) - pick;
+  for (std::size_t k = 0; k < count; ++k) points[k] = points[pick[k]];
+  points.resize(count);
+}
+
 // Shapes [first, last) against the plane; `fixed_margin` < 0: each body's travel over the step.
 void planeContacts(const Model& model, const Data& data, CollisionCache& cache, std::size_t first,
                    std::size_t last, double fixed_margin, std::vector<Contact>& out,
@@ -188,15 +229,19 @@ void planeContacts(const Model& model, const Data& data, CollisionCache& cache, 
     const scene::BodyModel& body = model.scene.bodies[cs.body];
     const Shape& shape = body.shapes[cs.shape];
     if (cs.body != last_body && fixed_margin < 0) {
+      // The body's shapes are consecutive in the cache, this one at its place among them.
       double reach = 0.0;
-      for (const auto& sh : body.shapes)
-        reach = std::max(reach, sh.M_BS.translation(model.lambda).norm() + cs.bound);
+      for (std::size_t k = 0; k < body.shapes.size(); ++k) {
+        const CollisionCache::Shape& other = cache.shapes[s - cs.shape + k];
+        reach = std::max(reach, body.shapes[k].M_BS.translation(model.lambda).norm() +
+                                    other.centre_S.norm() + other.bound);
+      }
       margin = travel(model, data, i, reach);
       last_body = cs.body;
     }
     const Eigen::Isometry3d& X = cache.pose_W[s];
     const Eigen::Vector3d c = X.translation();
-    if (c.z() - cs.bound - plane.height > margin) continue;  // far above the plane
+    if (cache.centre_W[s].z() - cs.bound - plane.height > margin) continue;  // far above
     const auto add = [&](const Eigen::Vector3d& p, int feature) {
       const double gap = p.z() - plane.height;
       if (gap > margin) return;
@@ -240,10 +285,21 @@ void planeContacts(const Model& model, const Data& data, CollisionCache& cache, 
         break;
       }
       case Shape::Kind::kBox:
-      case Shape::Kind::kMesh:
         for (std::size_t v = 0; v < cs.vertices_S.size(); ++v)
           add(X * cs.vertices_S[v], static_cast<int>(v));
         break;
+      case Shape::Kind::kMesh: {
+        // The hull's vertices within the margin, reduced to the four that span the contact
+        // patch (a mesh's flat sole has dozens of coplanar vertices; four corners hold it).
+        cache.plane_points.clear();
+        for (std::size_t v = 0; v < cs.vertices_S.size(); ++v) {
+          const Eigen::Vector3d p = X * cs.vertices_S[v];
+          if (p.z() - plane.height <= margin) cache.plane_points.push_back({p, static_cast<int>(v)});
+        }
+        reducePatch(cache.plane_points);
+        for (const auto& [p, v] : cache.plane_points) add(p, v);
+        break;
+      }
     }
   }
 }
@@ -297,6 +353,7 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
     const cga::Motor M_WS =
         bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
     cache.pose_W[s] = M_WS.toIsometry(lambda);
+    cache.centre_W[s] = cache.pose_W[s] * cs.centre_S;
   }
   if (model.config.ground_plane)
     planeContacts(model, data, cache, 0, cache.shapes.size(), -1, out, asleep);
@@ -308,7 +365,7 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
   // sleeping pile costs the sort, not its pairs. The pairs come in the same order either way.
   cache.sweep.clear();
   for (std::size_t s = 0; s < cache.shapes.size(); ++s) {
-    const Eigen::Vector3d c = cache.pose_W[s].translation();
+    const Eigen::Vector3d& c = cache.centre_W[s];
     const double r = cache.shapes[s].bound;
     cache.sweep.push_back({c.x() - r, c.x() + r, c.y(), c.z(), r, static_cast<int>(s),
                            !sleeps(cache.shapes[s].body)});
@@ -333,11 +390,10 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
     if (A.body == B.body) return;
     const bool a_moving = model.moving_of_body[A.body] >= 0;
     const bool b_moving = model.moving_of_body[B.body] >= 0;
-    if (!cache.joined.empty() &&
-        std::binary_search(cache.joined.begin(), cache.joined.end(),
-                           std::make_pair(std::min(A.body, B.body), std::max(A.body, B.body))))
-      return;
-    const Eigen::Vector3d d = cache.pose_W[s2].translation() - cache.pose_W[s1].translation();
+    // Two bodies of one robot: only the pairs its self-collision rules allow
+    // (doc/contacts.md#self-collision); never a link and its parent.
+    if (!model.self_collision.collides(A.body, B.body)) return;
+    const Eigen::Vector3d d = cache.centre_W[s2] - cache.centre_W[s1];
     const double r = A.bound + B.bound;
     if (d.squaredNorm() > r * r) return;  // (y and z: near(), checked before each call)
     // Body a is moving; of two moving bodies, the one that comes first in the scene.
@@ -361,30 +417,56 @@ void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
   }
 }
 
-std::vector<std::string> overlapWarnings(const Model& model, const Data& data, double depth) {
-  CollisionCache cache;
+std::vector<std::string> overlapWarnings(const Model& model, const Data& data,
+                                         CollisionCache& cache, double depth) {
   std::vector<Contact> found;
   detectContacts(model, data, cache, found);
-  std::vector<std::string> out;
-  std::vector<std::pair<int, int>> said;
-  for (const Contact& c : found) {
-    if (c.depth <= depth) continue;
-    const std::pair<int, int> pair(c.body_a, c.body_b);
-    if (std::find(said.begin(), said.end(), pair) != said.end()) continue;
-    double deepest = c.depth;
-    for (const Contact& d : found)
-      if (d.body_a == c.body_a && d.body_b == c.body_b) deepest = std::max(deepest, d.depth);
-    said.push_back(pair);
-    const auto name = [&model](int j, int shape) {
-      if (j == kGroundPlane) return std::string("the ground plane");
-      const scene::BodyModel& b = model.scene.bodies[j];
-      return "body '" + b.name + "' (link '" + b.links[b.shapes[shape].link_index].link + "')";
-    };
-    out.push_back(name(c.body_a, c.shape_a) + " and " + name(c.body_b, c.shape_b) + " overlap by " +
-                  std::to_string(deepest) +
-                  " m at the start: they are pushed apart without adding energy (against "
-                  "gravity only as far as their kinetic energy pays for it)");
+  // The deepest contact of each pair of bodies deeper than `depth`, in detection order of the
+  // pairs' first contact (sorting keeps a pile of thousands of overlaps cheap).
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < found.size(); ++k)
+    if (found[k].depth > depth) order.push_back(k);
+  const auto pairOf = [&found](std::size_t k) {
+    return std::make_pair(found[k].body_a, found[k].body_b);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return pairOf(x) < pairOf(y); });
+  std::vector<std::size_t> deepest;  // per pair: its deepest contact (first of equals)
+  for (std::size_t q = 0; q < order.size();) {
+    std::size_t best = order[q], e = q;
+    for (; e < order.size() && pairOf(order[e]) == pairOf(order[q]); ++e)
+      if (found[order[e]].depth > found[best].depth) best = order[e];
+    deepest.push_back(best);
+    q = e;
   }
+  const auto name = [&model](int j, int shape) {
+    if (j == kGroundPlane) return std::string("the ground plane");
+    const scene::BodyModel& b = model.scene.bodies[j];
+    return "body '" + b.name + "' (link '" + b.links[b.shapes[shape].link_index].link + "')";
+  };
+  const auto line = [&](const Contact& c) {
+    return name(c.body_a, c.shape_a) + " and " + name(c.body_b, c.shape_b) + " overlap by " +
+           std::to_string(c.depth) +
+           " m at the start: they are pushed apart without adding energy (against gravity only "
+           "as far as their kinetic energy pays for it)";
+  };
+  // A few pairs are named one by one; past that a count and the deepest, so that a heap of
+  // overlapping bodies does not flood the log.
+  constexpr std::size_t kNamed = 5;
+  std::vector<std::string> out;
+  if (deepest.size() > kNamed) {
+    std::stable_sort(deepest.begin(), deepest.end(), [&found](std::size_t x, std::size_t y) {
+      return found[x].depth > found[y].depth;
+    });
+    out.push_back(std::to_string(deepest.size()) + " pairs of bodies overlap by more than " +
+                  std::to_string(depth) +
+                  " m at the start; they are pushed apart without adding energy. The " +
+                  std::to_string(kNamed) + " deepest:");
+    deepest.resize(kNamed);
+  } else {
+    std::sort(deepest.begin(), deepest.end());
+  }
+  for (std::size_t k : deepest) out.push_back(line(found[k]));
   return out;
 }
 
@@ -399,6 +481,7 @@ void detectPlaneContactsOf(const Model& model, const Data& data, CollisionCache&
     cache.pose_W[s] =
         (bodyPose(model, data, j) * model.scene.bodies[j].shapes[cache.shapes[s].shape].M_BS)
             .toIsometry(model.lambda);
+    cache.centre_W[s] = cache.pose_W[s] * cache.shapes[s].centre_S;
   }
   planeContacts(model, data, cache, first, last, margin, out);
 }

@@ -9,7 +9,8 @@
 //                 margin so that a body about to land is caught in the step it lands; every
 //                 other pair through FCL (its box–box gives the full face manifold, up to 4
 //                 points; meshes collide as their convex hulls).
-// Pairs inside one body never collide; two static bodies are never tested.
+// Pairs inside one body never collide; two static bodies are never tested; two bodies of one
+// robot only when its self-collision table allows them (Model::self_collision).
 #pragma once
 
 #include <memory>
@@ -36,9 +37,11 @@ std::shared_ptr<CollisionCache> makeCollisionCache();
 void detectContacts(const Model& model, const Data& data, CollisionCache& cache,
                     std::vector<Contact>& out, const std::vector<char>* asleep = nullptr);
 
-/// One line per pair of bodies that overlap by more than `depth` m at the current poses (the
-/// deepest point), naming the bodies and links: reported once, when a World is created.
-std::vector<std::string> overlapWarnings(const Model& model, const Data& data, double depth);
+/// The pairs of bodies that overlap by more than `depth` m at the current poses (each at its
+/// deepest point), naming the bodies and links: one line each for up to five pairs, else a line
+/// with their count and the five deepest. Reported once, when a World is created.
+std::vector<std::string> overlapWarnings(const Model& model, const Data& data,
+                                         CollisionCache& cache, double depth);
 
 /// Appends the ground-plane contacts of body j alone at its current pose, with a speculative
 /// margin of `margin` m (used after a body has been moved to the instant it lands).

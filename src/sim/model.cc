@@ -7,6 +7,7 @@
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "curved_bodies.h"
 #include "input_rules.h"
+#include "self_collision_rules.h"
 #include "tree_compile.h"
 
 namespace cga_rigid_sim {
@@ -30,6 +31,7 @@ int appendBody(Model& model, scene::BodyModel body) {
   for (int li = 0; li < static_cast<int>(body.links.size()); ++li)
     model.link_owner[body.links[li].link] = {j, li};
   model.parent.push_back(-1);  // set for tree links by compileTrees
+  model.self_collision.appendBody();
   if (body.is_static) {
     model.moving_of_body.push_back(-1);
   } else {
@@ -136,6 +138,7 @@ Result<Model> compileModel(scene::Scene scene, const WorldConfig& config) {
     appendBody(model, std::move(bodies[j]));
   }
   if (auto e = compileTrees(model)) return *e;
+  compileSelfCollision(model);
   if (config.curvature)
     if (auto e = compileCurvedBodies(model)) return *e;
   return model;

@@ -130,6 +130,7 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
   model.scene.bodies.erase(model.scene.bodies.begin() + j);
   model.parent.erase(model.parent.begin() + j);
   model.moving_of_body.erase(model.moving_of_body.begin() + j);
+  model.self_collision.eraseBody(j);
   if (i >= 0) {
     model.moving.erase(model.moving.begin() + i);
     model.tree_of_moving.erase(model.tree_of_moving.begin() + i);

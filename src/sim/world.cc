@@ -10,8 +10,10 @@
 #include "cga_rigid_sim/sim/worker_pool.h"
 #include "coasting.h"
 #include "contact_detection.h"
+#include "contact_scratch.h"
 #include "curved_bodies.h"
 #include "input_admission.h"
+#include "self_collision_rules.h"
 #include "joint_efforts.h"
 #include "state_edit.h"
 #include "topology.h"
@@ -42,8 +44,13 @@ Result<std::unique_ptr<World>> World::create(scene::Scene scene, const WorldConf
   if (!model) return model.failure();
   auto data = makeData(*model);
   if (!data) return data.failure();
+  // The contacts stage's scratch, made now: its collision geometry (meshes' convex hulls) serves
+  // the start's checks too.
+  data->contact_scratch = std::make_shared<ContactScratch>();
+  CollisionCache& cache = *data->contact_scratch->cache;
+  leaveOutInitialOverlaps(*model, *data, cache);
   // Bodies that start overlapping are said once (doc/contacts.md#energy).
-  for (auto& w : overlapWarnings(*model, *data, 1e-4))
+  for (auto& w : overlapWarnings(*model, *data, cache, 1e-4))
     model->scene.warnings.push_back(std::move(w));
   std::unique_ptr<World> world(new World());
   const int threads = model->config.threads;
@@ -186,6 +193,18 @@ std::vector<FramePose> World::movingFrames() const {
   return sim::movingFrames(impl_->model, impl_->current());
 }
 std::vector<FramePose> World::staticFrames() const { return sim::staticFrames(impl_->model); }
+std::vector<std::string> World::selfCollisionSummary() const {
+  return sim::selfCollisionSummary(impl_->model);
+}
+
+std::vector<std::pair<std::string, std::string>> World::selfCollisionPairs() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  const Model& m = impl_->model;
+  for (const auto& [a, b] : m.self_collision.allowed)
+    out.emplace_back(m.scene.bodies[a].name, m.scene.bodies[b].name);
+  return out;
+}
+
 std::string World::summary() const { return worldSummary(impl_->model, impl_->current()); }
 
 std::vector<CurvedMomentumReport> World::curvedMomentum() const {

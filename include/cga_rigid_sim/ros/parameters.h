@@ -26,11 +26,17 @@ struct NodeParams {
   std::string urdf_file;         ///< path, when urdf_from_file
   std::string urdf_xml;          ///< the XML, when !urdf_from_file
   std::string urdf_source_name;  ///< resolved parameter name or path, for messages
+  /// The SRDF (self-collision rules, scene/srdf.h): `~srdf_file` (a path) when set, else the
+  /// string parameter `robot_description_semantic` (MoveIt's name), else none (empty).
+  std::string srdf_file;
+  std::string srdf_xml;
+  std::string srdf_source_name;
 
   scene::SceneOptions scene;  ///< ~lambda, ~gravity, ~relax_inertia, ~world_frame,
                               ///< ~initial_state
   sim::WorldConfig world;     ///< ~dt, ~integrator, ~world_frame, ~max_force, ~max_impulse,
-                              ///< ~threads, ~ground_plane, ~contact_mu, ~contact_restitution
+                              ///< ~threads, ~ground_plane, ~contact_mu, ~contact_restitution,
+                              ///< ~self_collision
 
   double real_time_factor = 1.0;  ///< ~real_time_factor: sim s per wall s; 0 = max speed
   double publish_rate = 100.0;    ///< ~publish_rate: tf, momentum, body states, contacts,

@@ -19,6 +19,7 @@
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
 #include "cga_rigid_sim/scene/joint.h"
+#include "cga_rigid_sim/scene/self_collision.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -53,6 +54,9 @@ struct Scene {
   /// body's M_WB0 is its pose at the joints' initial positions; its omega_B0 is left zero (the
   /// World derives link velocities from the joint velocities).
   std::vector<JointModel> joints;
+  /// Which pairs of one robot's links may collide: Gazebo's <self_collide> from the URDF, an
+  /// SRDF's rules (srdf.h); combined with the mode when a World is made (self_collision.h).
+  SelfCollisionRules self_collision;
   std::vector<std::string> warnings;  ///< e.g. relaxed triangle inequality
 
   /// Index of the joint with that name, or -1.

@@ -26,6 +26,7 @@
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
+#include "cga_rigid_sim/sim/self_collision.h"
 #include "cga_rigid_sim/sim/world_config.h"
 
 namespace cga_rigid_sim {
@@ -75,6 +76,8 @@ struct Model {
   std::vector<int> tree_body_of_moving;
   /// Joint name → (tree, joint index in the tree).
   std::map<std::string, std::pair<int, int>> joint_by_name;
+  /// Which pairs of one robot's bodies collide (decided when the World is made).
+  SelfCollision self_collision;
 
   /// Name look-ups (inputs and reports; never used by the step).
   std::map<std::string, int> body_by_name;                // body name → j

@@ -163,6 +163,11 @@ class World {
   std::vector<FramePose> staticFrames() const;
   /// Bumped whenever the set of bodies changes (spawn/delete): static frames must be resent.
   std::uint64_t topologyVersion() const;
+  /// The self-collision table (doc/contacts.md#self-collision), for the start-up summary: per
+  /// robot, how many pairs of its links collide, which, and which are left out and why.
+  std::vector<std::string> selfCollisionSummary() const;
+  /// Every pair of one robot's bodies that collides, by body name (scene order).
+  std::vector<std::pair<std::string, std::string>> selfCollisionPairs() const;
   /// Integrator path per body, for the summary ("exact-symmetric", …; "at-rest" for a body
   /// skipped in the last step).
   std::string summary() const;

@@ -9,6 +9,7 @@
 
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
+#include "cga_rigid_sim/scene/self_collision.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -53,6 +54,10 @@ struct WorldConfig {
   /// until a state set, an impulse, a wrench, a change of gravity or an awake body touching
   /// it wakes it. false: every body in contact is solved every step.
   bool contact_sleeping = true;
+  /// Which pairs of one robot's links may collide (the node's ~self_collision;
+  /// scene/self_collision.h, doc/contacts.md#self-collision). Links of different robots and
+  /// bodies always collide; a link and its parent never do.
+  scene::SelfCollisionMode self_collision = scene::SelfCollisionMode::kAuto;
 
   /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
   /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all

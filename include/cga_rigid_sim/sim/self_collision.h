@@ -1,0 +1,59 @@
+// SelfCollision: the pairs of one robot's bodies that contact detection tests, decided once when
+// a World is made from the scene's rules and the mode (scene/self_collision.h,
+// doc/contacts.md#self-collision), and why each other pair is left out (the start-up summary).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cga_rigid_sim/scene/self_collision.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+struct SelfCollision {
+  /// Why a pair of one robot's bodies never collides.
+  enum class Reason {
+    kJoint,    ///< a link and its parent (always)
+    kMode,     ///< ~self_collision none
+    kGazebo,   ///< the URDF's <self_collide> (neither link self-collides)
+    kSrdf,     ///< the SRDF disables it
+    kOverlap,  ///< it overlaps at the initial configuration (auto)
+  };
+  struct Excluded {
+    int a = -1, b = -1;  ///< body indices, a < b
+    Reason reason = Reason::kJoint;
+    double depth = 0.0;  ///< kOverlap: how deep, m
+  };
+
+  scene::SelfCollisionMode mode = scene::SelfCollisionMode::kAuto;
+  /// Per body j: its robot (bodies joined by joints, with the static body a fixed-base tree
+  /// hangs on), −1 for a body no joint touches.
+  std::vector<int> robot_of_body;
+  /// Pairs (a < b) of bodies of one robot, both with collision shapes, that are tested. Sorted.
+  std::vector<std::pair<int, int>> allowed;
+  /// The other pairs of one robot's bodies with shapes, and why (in order of a, then b).
+  std::vector<Excluded> excluded;
+
+  /// Whether contact detection tests bodies a and b (a ≠ b): always for bodies of different
+  /// robots or of none, else only an allowed pair.
+  bool collides(int a, int b) const {
+    const int ra = robot_of_body[a];
+    if (ra < 0 || ra != robot_of_body[b]) return true;
+    const std::pair<int, int> key = a < b ? std::make_pair(a, b) : std::make_pair(b, a);
+    return binarySearch(key);
+  }
+  /// Body j removed (World::deleteBody): indices after it shift down. j is in no robot.
+  void eraseBody(int j);
+  /// A body appended (spawned free body): in no robot.
+  void appendBody() { robot_of_body.push_back(-1); }
+
+ private:
+  bool binarySearch(const std::pair<int, int>& key) const;
+};
+
+const char* toString(SelfCollision::Reason reason);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
