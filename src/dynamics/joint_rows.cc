@@ -82,22 +82,26 @@ void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) 
   }
 }
 
-bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
-                         Eigen::VectorXd& nu) const {
-  const int m = static_cast<int>(held_.size());
-  if (m == 0) return false;
-  // ν ← ν + A E z with (Eᵀ A E) z = −Eᵀ ν, A = M⁻¹: the rates of the held joints become zero.
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu) {
+  const int m = static_cast<int>(held.size());
+  if (m == 0) return;
   Eigen::MatrixXd AE(nu.size(), m), G(m, m);
   Eigen::VectorXd v(m);
   for (int c = 0; c < m; ++c) {
     Eigen::VectorXd e = Eigen::VectorXd::Zero(nu.size());
-    e[held_[c]] = 1.0;
+    e[held[c]] = 1.0;
     AE.col(c) = llt.solve(e);
-    v[c] = nu[held_[c]];
+    v[c] = nu[held[c]];
   }
-  for (int r = 0; r < m; ++r) G.row(r) = AE.row(held_[r]);
+  for (int r = 0; r < m; ++r) G.row(r) = AE.row(held[r]);
   nu += AE * G.llt().solve(-v);
-  for (int c = 0; c < m; ++c) nu[held_[c]] = 0.0;  // exactly, not to round-off
+  for (int c = 0; c < m; ++c) nu[held[c]] = 0.0;  // exactly, not to round-off
+}
+
+bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
+                         Eigen::VectorXd& nu) const {
+  if (held_.empty()) return false;
+  stopRates(llt, held_, nu);
   return true;
 }
 

@@ -20,6 +20,12 @@
 namespace cga_rigid_sim {
 namespace dynamics {
 
+/// Sets the rates ν_k, k in `held` (velocity indices), to zero with the impulse on those joints
+/// that does it in the metric of M (llt: M's factor): ν ← ν + A E z, (Eᵀ A E) z = −Eᵀ ν, A = M⁻¹.
+/// An impulse on joints only: it keeps a floating tree's momentum and never raises the kinetic
+/// energy (a projection in the metric of M).
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu);
+
 class JointRows {
  public:
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
@@ -38,6 +44,12 @@ class JointRows {
   }
   /// Joints held in the last solve (velocity indices).
   const std::vector<int>& held() const { return held_; }
+  /// Whether a limit (not friction) acted in the last solve.
+  bool limitActed() const {
+    for (const Row& r : rows_)
+      if (r.kind != Kind::kFriction && r.y != 0.0) return true;
+    return false;
+  }
 
  private:
   enum class Kind { kLower, kUpper, kFriction };

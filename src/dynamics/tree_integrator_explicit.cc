@@ -3,12 +3,15 @@
 // MidpointResidual::accelerations (CRBA, RNEA bias, Cholesky on scalar frames), else ABA.
 // Damping and friction enter as explicit forces (friction −F sign q̇, so it chatters about zero:
 // a baseline); limits by projection after the step (position clamped, the rate into the limit
-// removed).
+// stopped by an impulse on the joint in the metric of M, which keeps a floating tree's
+// momentum). What damping and friction take is booked as the forces' work at the mean of the
+// rates before and after; a step with a stop is booked by the World from its energies.
 #include <algorithm>
 #include <array>
 #include <cstring>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "joint_rows.h"
 #include "tree_integrator_residual.h"
 #include "tree_integrators.h"
 #include "tree_math.h"
@@ -34,6 +37,8 @@ class Explicit final : public TreeIntegrator {
  public:
   explicit Explicit(bool rk4) : rk4_(rk4) {}
   const char* name() const override { return rk4_ ? "rk4" : "euler"; }
+  double lastDissipated() const override { return dissipated_; }
+  bool lastLimited() const override { return !held_.empty(); }
   void reset() override {
     kin_at_state_ = false;
     compensated_ = false;
@@ -92,17 +97,33 @@ class Explicit final : public TreeIntegrator {
     setVelocityVector(tree, nu_, state);
     if (tree.floating()) state.M_W0 = state.M_W0.normalized();
     compensated_ = true;
+    // What damping and friction took: their power at the mean of the rates before and after.
+    dissipated_ = 0.0;
+    for (int k = 0; k < tree.jointCount(); ++k) {
+      const TreeJoint& j = tree.joints()[k];
+      const double v = 0.5 * (y0_.v[k] + state.v[k]);
+      dissipated_ += h * (j.damping * v * v + j.friction * std::abs(v));
+    }
+    held_.clear();
     for (int k = 0; k < tree.jointCount(); ++k) {  // limits by projection
       const TreeJoint& j = tree.joints()[k];
       if (state.q[k] < j.lower) {
         state.q[k] = j.lower;
-        state.v[k] = std::max(0.0, state.v[k]);
+        if (state.v[k] < 0.0) held_.push_back(tree.velocityIndex(k));
         compensated_ = false;
       } else if (state.q[k] > j.upper) {
         state.q[k] = j.upper;
-        state.v[k] = std::min(0.0, state.v[k]);
+        if (state.v[k] > 0.0) held_.push_back(tree.velocityIndex(k));
         compensated_ = false;
       }
+    }
+    if (!held_.empty() && state.allFinite()) {  // stopped in the metric of M at the new pose
+      treeKinematics(tree, state, kin_);
+      massMatrix(tree, kin_, M_);
+      llt_.compute(M_);
+      setVelocity(tree, state, nu_);
+      stopRates(llt_, held_, nu_);
+      setVelocityVector(tree, nu_, state);
     }
     last_q_ = state.q;
     setVelocity(tree, state, last_nu_);
@@ -191,6 +212,10 @@ class Explicit final : public TreeIntegrator {
   bool kin_at_state_ = false;
   bool general_sized_ = false;  // the general path has run once (its scratch has its sizes)
   Eigen::VectorXd scratch_;
+  double dissipated_ = 0.0;  // what the joints took in the last step (lastDissipated)
+  std::vector<int> held_;    // joints stopped at a limit in the last step
+  Eigen::MatrixXd M_;
+  tree_math::Cholesky llt_;
 };
 
 }  // namespace

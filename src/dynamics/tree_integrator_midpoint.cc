@@ -54,12 +54,18 @@ class Midpoint final : public TreeIntegrator {
     kin_at_state_ = false;
   }
   int lastIterations() const override { return iterations_; }
+  double lastDissipated() const override { return dissipated_; }
+  bool lastLimited() const override { return limited_; }
+  bool lastSolved() const override { return solved_; }
   const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
     iterations_ = 0;
     attempts_ = 0;
+    dissipated_ = 0.0;
+    limited_ = false;
+    solved_ = true;
     if (!fourth_order_) return robustSubstep(tree, loads, h, state, 0);
     // Yoshida: h γ1, h γ2, h γ1 with γ1 = 1/(2 − 2^{1/3}), γ2 = 1 − 2 γ1.
     const double g1 = 1.0 / (2.0 - std::cbrt(2.0)), g2 = 1.0 - 2.0 * g1;
@@ -135,8 +141,9 @@ class Midpoint final : public TreeIntegrator {
     Saved& saved = saved_[depth];
     save(state, saved);
     ++attempts_;
-    if (substep(tree, loads, h, state) || depth >= kMaxHalvings ||
-        attempts_ >= kMaxAttemptsPerStep) {
+    const bool solved = substep(tree, loads, h, state);
+    if (solved || depth >= kMaxHalvings || attempts_ >= kMaxAttemptsPerStep) {
+      solved_ = solved_ && solved;
       if (!slots_sized_) {  // every slot sized once the first step has sized the members
         saved_.resize(kMaxHalvings + 1);
         for (Saved& slot : saved_) save(state, slot);
@@ -324,10 +331,24 @@ class Midpoint final : public TreeIntegrator {
     T_ = 0.5 * nu_end_.dot(rhs_);  // ½ νᵀ M ν with M ν = rhs
     const double growth = T_ - T_start - h * power;
     if (growth > 0.05 * (T_ + T_start) + 0.5 * std::abs(h * power) + 1e-12) return false;
-    // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md).
+    // What the joints took over the substep: the momentum balance's non-conservative terms,
+    // damping −h C q̄̇ and friction's impulses 2y, paired with ν̄ (doc/articulated.md#energy).
+    // A limit's stop is booked by the World from the energies before and after the step.
+    const bool limited = rows_.limitActed();
+    double taken = limited ? 0.0 : -2.0 * y_.dot(nu_bar_);
+    if (damped(tree))
+      for (int k = 0; k < n; ++k) {
+        const double v = nu_bar_[tree.velocityIndex(k)];
+        taken += h * tree.joints()[k].damping * v * v;
+      }
+    // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md):
+    // the kinetic energy that stop takes is taken too.
     if (rows_.stopHeld(tree, llt_, nu_end_)) {
       Mnu_.noalias() = M_ * nu_end_;
       p_ = Mnu_.tail(n);
+      const double T_stopped = 0.5 * nu_end_.dot(Mnu_);
+      taken += T_ - T_stopped;
+      T_ = T_stopped;
     }
     if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
     predictNext(nv);
@@ -341,6 +362,8 @@ class Midpoint final : public TreeIntegrator {
         !state.omega_0.allFinite())
       return false;
     kin_at_state_ = true;
+    dissipated_ += taken;
+    limited_ = limited_ || limited;
     last_ = state;
     last_h_ = h;
     cached_ = true;
@@ -411,6 +434,9 @@ class Midpoint final : public TreeIntegrator {
   TreeState last_;
   double last_h_ = 0.0;
   int iterations_ = 0;
+  double dissipated_ = 0.0;  ///< what the joints took in the step (lastDissipated)
+  bool solved_ = true;       ///< every substep of the step converged (lastSolved)
+  bool limited_ = false;     ///< a limit acted in the step (lastLimited)
   int halvings_ = 0;
   int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
   std::vector<Saved> saved_;

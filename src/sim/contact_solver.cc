@@ -573,6 +573,44 @@ void forRows(const SolverWork& work, std::vector<ContactRow>& rows, const Solver
   }
 }
 
+// The column M⁻¹ e_k of a limit row, made the first time the row acts in a step.
+void makeColumn(const SolverTree& t, SolverTree::LimitRow& r) {
+  r.column.setZero(t.nu.size());
+  r.column[r.index] = 1.0;
+  t.llt.solveInPlace(r.column);
+  r.a = r.column[r.index];
+}
+
+// One Gauss–Seidel pass over tree t's limit rows: the rates `nu` (ν, or pν with `base` = the
+// rates it adds to: ν for the position correction) kept so that q + h (base_k + nu_k) stays
+// within [lower, upper], by the accumulated impulses *y_lower ≥ 0 and *y_upper ≤ 0 on the
+// joint. Returns the largest change of a rate.
+template <Eigen::VectorXd SolverTree::*Nu, double SolverTree::LimitRow::*Lower,
+          double SolverTree::LimitRow::*Upper>
+double sweepLimits(SolverTree& t, double h, const Eigen::VectorXd* base) {
+  double change = 0.0;
+  Eigen::VectorXd& nu = t.*Nu;
+  for (SolverTree::LimitRow& r : t.limits) {
+    const double b = base ? (*base)[r.index] : 0.0;
+    const double lo = (r.lower - r.q) / h - b, hi = (r.upper - r.q) / h - b;
+    double v = nu[r.index];
+    if (r.*Lower == 0.0 && r.*Upper == 0.0 && v >= lo && v <= hi) continue;  // free
+    if (r.a == 0.0) makeColumn(t, r);
+    if (!(r.a > 0.0)) continue;
+    const double yl = std::max(0.0, r.*Lower + (lo - v) / r.a);
+    double dy = yl - r.*Lower;
+    r.*Lower = yl;
+    v += dy * r.a;
+    const double yu = std::min(0.0, r.*Upper + (hi - v) / r.a);
+    dy += yu - r.*Upper;
+    r.*Upper = yu;
+    if (dy == 0.0) continue;
+    nu.noalias() += dy * r.column;
+    change = std::max(change, std::abs(dy * r.a));
+  }
+  return change;
+}
+
 // The velocity solve of one island (sweeps until its own change is below the tolerance, and
 // the energy guard); returns its sweeps.
 int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
@@ -599,7 +637,10 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
       bodiesOf([&](int s) { work.vel[s] = work.vel_start[s]; });
-      treesOf([](SolverTree& t) { t.nu = t.nu_start; });
+      treesOf([](SolverTree& t) {
+        t.nu = t.nu_start;
+        for (SolverTree::LimitRow& r : t.limits) r.y_lower = r.y_upper = 0.0;
+      });
       forRows(work, rows, I, [](std::size_t, ContactRow& c) {
         c.lambda_n = 0.0;
         c.lambda_t.setZero();
@@ -608,7 +649,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
     // A resting island of faces solved directly; the sweeps then only confirm it.
-    if (!bounce || !solveResting(bodies, rows, work, I)) {
+    if (!bounce ||
+        !solveResting(bodies, rows, work, I)) {
       forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
         c.lambda_n = std::max(0.0, c.lambda_n);
         const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
@@ -643,7 +685,15 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
           applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                    dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
       }
-      double change = bodyChange(work, I);
+      // The joints' limits, solved with the contacts (a rate's change counts as a point's at
+      // 1 m).
+      double limit_change = 0.0;
+      treesOf([&](SolverTree& t) {
+        limit_change = std::max(
+            limit_change, sweepLimits<&SolverTree::nu, &SolverTree::LimitRow::y_lower,
+                                      &SolverTree::LimitRow::y_upper>(t, st.h, nullptr));
+      });
+      double change = std::max(bodyChange(work, I), limit_change);
       if (I.trees > 0) {  // a tree's change as its contact points see it
         treesOf([](SolverTree& t) { t.nu_sweep = t.nu - t.nu_sweep; });
         forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
@@ -736,6 +786,11 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
         if (d != 0.0) applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
       });
       double change = bodyChange(work, I);
+      for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {  // within the limits
+        SolverTree& t = trees[work.island_tree[q]];
+        change = std::max(change, sweepLimits<&SolverTree::pnu, &SolverTree::LimitRow::p_lower,
+                                              &SolverTree::LimitRow::p_upper>(t, st.h, &t.nu));
+      }
       if (I.trees > 0) {
         for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
           SolverTree& t = trees[work.island_tree[q]];
@@ -752,6 +807,13 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].pv = work.vel[s].v;
     bodies[s].pw = work.vel[s].w;
+  }
+  // A tree's correction moves no coordinate by more than max_tree_shift in one step: scaled
+  // down as a whole (it keeps its direction, so an internal contact still leaves the tree's
+  // centre of mass where it is, and stays within the limits, a convex set holding pν = 0).
+  for (SolverTree& t : trees) {
+    const double largest = st.h * t.pnu.cwiseAbs().maxCoeff();
+    if (largest > st.max_tree_shift) t.pnu *= st.max_tree_shift / largest;
   }
 }
 

@@ -57,6 +57,20 @@ struct SolverBody {
 /// step's start, and per velocity coordinate the world twist (ω, v_o) that a unit rate gives
 /// (v_o: the velocity of the point at the world origin), from which contact Jacobians follow.
 struct SolverTree {
+  /// A joint's position limits as rows on its rate ν_k, solved with the contacts: over the step
+  /// the joint may reach its limits, not pass them — lower ≤ q + h ν_k ≤ upper, by impulses
+  /// y_lower ≥ 0 and y_upper ≤ 0 on the joint (internal to the tree: they change neither its
+  /// momentum nor, being projections in the metric of M, raise its kinetic energy). The
+  /// position correction keeps q + h (ν_k + pν_k) within the same limits the same way.
+  struct LimitRow {
+    int index = 0;                      ///< velocity index
+    double q = 0.0;                     ///< the joint's position at the step's start
+    double lower = 0.0, upper = 0.0;    ///< its limits (±∞ where it has none)
+    double y_lower = 0.0, y_upper = 0.0;  ///< accumulated impulses (velocity solve)
+    double p_lower = 0.0, p_upper = 0.0;  ///< accumulated pseudo-impulses (position correction)
+    double a = 0.0;                       ///< (M⁻¹)_kk; 0 until the column is made
+    Eigen::VectorXd column;               ///< M⁻¹ e_k, made when the row first acts
+  };
   Eigen::VectorXd nu;                              ///< ν after the loads' kick and the impulses
   Eigen::VectorXd nu_start, nu_sweep;              ///< before the impulses; before a sweep
   Eigen::VectorXd pnu, pnu_sweep;                  ///< the position correction's pseudo-velocity
@@ -65,6 +79,7 @@ struct SolverTree {
   Eigen::Matrix<double, 6, Eigen::Dynamic> twist;  ///< per coordinate: (ω; v_o), world
   std::vector<int> parent;                         ///< per tree body: its parent (−1 for body 0)
   bool floating = false;                           ///< the base's 6 coordinates come first
+  std::vector<LimitRow> limits;                    ///< every joint with a position limit
 };
 
 /// One contact in the solver: its bodies' slots (−1: immovable or a tree side), lever arms,
@@ -112,6 +127,12 @@ struct SolverSettings {
   double correction = 0.2;       ///< fraction of the overlap beyond slop removed per step
   int max_iterations = 100;      ///< Gauss–Seidel sweeps at most
   int position_iterations = 10;  ///< sweeps of the position correction at most
+  /// The position correction moves a tree's coordinate (a joint, rad or m; the floating base's
+  /// six, rad and m/λ) by at most this much in one step. It removes a fifth of an overlap per
+  /// step, so a few centimetres at a lever of 10 cm need a few hundredths of a radian; more only
+  /// where the tree can barely move the contact points apart (J M⁻¹ Jᵀ nearly singular), where
+  /// it would fling the joints (a wrist turned by 37 rad in one step on a real arm).
+  double max_tree_shift = 0.05;
   /// Stop when a sweep changes no body's velocity at any of its contact points by more, m/s.
   /// The bodies' velocities, not the impulses: four contacts under one face share its load in
   /// any proportion, and Gauss–Seidel keeps shifting it between them long after the motion has

@@ -20,7 +20,7 @@ struct Scratch {
   dynamics::TreeKinematics kin, still;
   dynamics::TreeState state;
   dynamics::BodyMoments f;
-  Eigen::VectorXd nu_dot;
+  Eigen::VectorXd nu_dot, M_nu_dot;
 };
 Scratch& scratch() {
   static thread_local Scratch s;
@@ -73,6 +73,18 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   for (auto& w : S.still.omega) w = cga::Bivelocity();
   dynamics::externalMoments(tree, S.still, td.loads, S.f);
   dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot);
+  // The world momentum the step must end with, but for the contacts' external impulses (the
+  // contacts stage adds them): the momentum now plus the loads' impulse h W over the step.
+  if (tree.floating()) {
+    cga::Moment W;
+    double scale = 0.0;
+    for (int b = 0; b < tree.bodyCount(); ++b) {
+      W += S.kin.M_W[b].apply(S.f[b], lambda);
+      scale += tree.inertiaOf(b).mass() * S.kin.omega[b].linear(lambda).norm();
+    }
+    td.contact_momentum_expected = dynamics::worldMomentum(tree, S.kin) + W * h;
+    td.contact_momentum_scale = scale + h * W.force(lambda).norm();
+  }
   out.nu.resize(tree.velocityCount());
   if (tree.floating()) {
     out.nu.head<3>() = td.state.omega_0.rot;
@@ -83,6 +95,15 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
   dynamics::massMatrix(tree, S.kin, out.M);
   out.llt.compute(out.M);
+  // The scale of the energy guard's tolerance (stage_trees.cc): symplectic Euler's error over
+  // one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
+  {
+    const double rate = std::max(out.nu.cwiseAbs().maxCoeff(),
+                                 td.state.v.size() ? td.state.v.cwiseAbs().maxCoeff() : 0.0);
+    const double T = dynamics::kineticEnergy(tree, S.kin);
+    S.M_nu_dot.noalias() = out.M * S.nu_dot;
+    td.contact_energy_slack = h * h * S.nu_dot.dot(S.M_nu_dot) + (h * rate) * (h * rate) * T;
+  }
   const int n = tree.velocityCount();
   out.twist.resize(6, n);
   out.floating = tree.floating();
@@ -101,6 +122,23 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.parent.resize(tree.bodyCount());
   out.parent[0] = -1;
   for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
+  // Every joint with a position limit: a row the solver keeps within it (its column M⁻¹ e_k is
+  // made only when the row acts). The rows keep their storage from step to step.
+  std::size_t rows = 0;
+  for (const dynamics::TreeJoint& j : tree.joints()) rows += j.hasLimits() ? 1 : 0;
+  out.limits.resize(rows);
+  rows = 0;
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    const dynamics::TreeJoint& j = tree.joints()[k];
+    if (!j.hasLimits()) continue;
+    SolverTree::LimitRow& r = out.limits[rows++];
+    r.index = tree.velocityIndex(k);
+    r.q = td.state.q[k];
+    r.lower = j.lower;
+    r.upper = j.upper;
+    r.y_lower = r.y_upper = r.p_lower = r.p_upper = 0.0;
+    r.a = 0.0;  // no column yet
+  }
 
   S.state = td.state;
   dynamics::setVelocityVector(tree, out.nu, S.state);

@@ -302,6 +302,29 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
     const int t = S.tree_of_solver_tree[u];
     if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
   }
+  // What the tree stage checks a tree's contact step against (stage_trees.cc): a floating
+  // tree's momentum changes by the impulses of its contacts with anything else (its contacts
+  // with itself cancel), and a tree's energy by the work of contacts with other moving bodies.
+  for (TreeData& td : data.trees) td.contact_transfer = 0.0;
+  for (std::size_t k = 0; k < kept; ++k) {
+    const int ta = S.slot_a[k] >= 0 ? S.bodies[S.slot_a[k]].tree : -1;
+    const int tb = S.slot_b[k] >= 0 ? S.bodies[S.slot_b[k]].tree : -1;
+    if (ta == tb) continue;
+    const ContactRow& r = S.rows[k];
+    const Eigen::Vector3d P = r.lambda_n * r.n + r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
+    const cga::Moment J(S.found[k].point_W.cross(P), lambda * P);
+    const bool other_moves = S.slot_a[k] >= 0 && S.slot_b[k] >= 0;
+    for (const auto& [u, sign] : {std::pair{ta, 1.0}, std::pair{tb, -1.0}}) {
+      if (u < 0) continue;
+      const SolverTree& st = S.trees[u];
+      TreeData& td = data.trees[S.tree_of_solver_tree[u]];
+      td.contact_momentum_expected += J * sign;
+      td.contact_momentum_scale += P.norm();
+      if (!other_moves) continue;
+      const auto& jac = sign > 0 ? r.ja : r.jb;
+      td.contact_transfer += sign * P.dot(0.5 * (jac * st.nu_start + jac * st.nu));
+    }
+  }
 
   // The impulses act on the bodies as CGA impulses, ΔΩ_B = (I∧n)⁻¹ T_imp (the lecture's rule,
   // doc/conventions.md (E17)), after the loads' kick: in world axes, T_imp adds its force to

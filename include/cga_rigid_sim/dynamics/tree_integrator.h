@@ -57,6 +57,15 @@ class TreeIntegrator {
   virtual void reset() {}
   /// Fixed-point iterations of the last step (implicit methods; 0 otherwise), for benchmarks.
   virtual int lastIterations() const { return 0; }
+  /// The energy the joints' damping and Coulomb friction took in the last step, J (≥ 0 up to
+  /// round-off): the World books it as dissipated (doc/articulated.md#energy).
+  virtual double lastDissipated() const { return 0.0; }
+  /// Whether a position limit stopped a joint in the last step. The World then books the step's
+  /// energy from the states before and after it (what a stop takes is not a force's work).
+  virtual bool lastLimited() const { return false; }
+  /// Whether the last step was solved: false when the implicit iteration did not converge
+  /// within its attempts and the state was left as the last attempt made it (a tree fault).
+  virtual bool lastSolved() const { return true; }
   /// The kinematics (poses and velocities of every body) of the state the last step produced,
   /// when the integrator has them at hand, else null: spares the caller a kinematics pass.
   /// Valid until the next call on the integrator; describes that state only while it is

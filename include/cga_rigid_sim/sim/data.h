@@ -110,18 +110,48 @@ struct TreeData {
   Eigen::VectorXd contact_shift;      ///< the position correction's pseudo-velocity pν
   double contact_energy_start = 0.0;  ///< J, kinetic + potential before the kick
   double contact_power_start = 0.0;   ///< W, of the inputs before the kick
-  /// The pose before this step (joint positions, floating root's motor), for undoing a step
-  /// that left non-finite numbers (TreeFaults); the undone tree is at rest, so no velocities.
-  Eigen::VectorXd q_before;
+  /// J: the work the impulses of contacts with other moving bodies did on the tree, P·ū with ū
+  /// the mean of its contact point's velocities before and after them: energy handed over, not
+  /// created (the energy guard allows it).
+  double contact_transfer = 0.0;
+  /// J: how far the kick-and-drift's own first-order error may move the energy in this step,
+  /// h² (τ + Q)ᵀ M⁻¹ (τ + Q) + (h |ν|∞)² T — the scale of the energy guard's tolerance.
+  double contact_energy_slack = 0.0;
+  /// The world momentum (about the world origin) the step must end with: the one before the
+  /// kick plus the loads' impulse h W and the impulses of contacts with anything but the tree
+  /// itself (internal ones cancel). A floating tree's contact step is checked against it.
+  cga::Moment contact_momentum_expected;
+  /// Its scale, kg m/s: the links' momenta, the loads' and contacts' impulses (the guard's
+  /// tolerance is relative to it).
+  double contact_momentum_scale = 0.0;
+  /// The state before this step (joint positions and rates, the floating root's motor and
+  /// bivelocity), for undoing a step that breaks an invariant (TreeFaults).
+  Eigen::VectorXd q_before, v_before;
   cga::Motor M_W0_before;
+  cga::Bivelocity omega_0_before;
 };
 
-/// Tree steps that left a non-finite state, undone: the tree was set at rest at the pose it
-/// had before the step (stage_trees.cc). Counted, and the last one described.
+/// Tree steps that broke an invariant of the tree's motion (doc/articulated.md#faults), undone:
+/// the tree was set at rest at the pose it had before the step (stage_trees.cc), its kinetic
+/// energy booked as dissipated. Counted, and the last one described (without allocating in the
+/// step: World::lastTreeFault() writes the message).
 struct TreeFaults {
+  /// The invariant the step broke.
+  enum class Rule {
+    kNotFinite,  ///< the state became non-finite
+    kNotSolved,  ///< the implicit step did not converge within its attempts
+    kLimit,      ///< a joint ended past its position limit (`joint`, `value`, `bound`)
+    kEnergy,     ///< a contact step raised the energy beyond the inputs' work (`value`, `bound`)
+    kMomentum,   ///< a floating tree's momentum changed by more than the external impulses
+  };
   std::uint64_t count = 0;
   int tree = -1;           ///< the last one's tree (the Model's index: trees are never removed)
   std::uint64_t step = 0;  ///< the step it happened in (1 = the first step)
+  Rule rule = Rule::kNotFinite;
+  int joint = -1;       ///< kLimit: the joint's index in the tree
+  double value = 0.0;   ///< kLimit: its position; kEnergy: the rise, J; kMomentum: the error
+  double bound = 0.0;   ///< kLimit: the limit; kEnergy, kMomentum: the tolerance
+  int body_a = -1, body_b = -1;  ///< kEnergy, kMomentum: the deepest contact's bodies (b: −1 plane)
 };
 
 /// Inputs refused when due to start, past a bound on active wrenches (WorldConfig): counted,
