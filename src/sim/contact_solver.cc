@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "contact_friction.h"
+#include "contact_patch.h"
 #include "contact_resting.h"
 
 namespace cga_rigid_sim {
@@ -339,6 +341,7 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   const double u_n = c.n.dot(u);
   const double h = st.h;
   const double d = c.depth;
+  c.mu = frictionCoefficient(st.model, c.mu_surface, (u - u_n * c.n).norm());
   c.impact = 0.0;
   // A gap may close, no more; a gap within round-off of contact is contact (targets of
   // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
@@ -391,7 +394,7 @@ constexpr double kFaceFrictionRelaxation = 1.5;
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
 // would make one negative; then each corner's friction.
 void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
-                std::vector<ContactRow>& rows) {
+                std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
   Eigen::Vector4d r = Eigen::Vector4d::Zero();
   for (int i = 0; i < g.size; ++i) {
@@ -429,6 +432,7 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
     if (dt.x() != 0.0 || dt.y() != 0.0)
       applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                dt.x() * c.t1 + dt.y() * c.t2);
+    if (patch) patchStep(model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
   }
 }
 
@@ -527,10 +531,13 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     }
     c.inv_k_nn = 1.0 / c.k_nn;  // 0 for an infinite k: no impulse
     c.inv_k_t = 1.0 / c.k_t;
-    c.mu = ct.mu;
+    c.mu = c.mu_surface = ct.mu;
     c.restitution = ct.restitution;
     c.depth = ct.depth;
     c.lambda_p = 0.0;
+    c.lambda_spin = 0.0;
+    c.lambda_roll.setZero();
+    c.couple.setZero();
   }
 }
 
@@ -595,6 +602,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
                            st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
   int sweeps = 0;
+  const bool patch = patchResistance(st.model);
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
@@ -603,6 +611,9 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       forRows(work, rows, I, [](std::size_t, ContactRow& c) {
         c.lambda_n = 0.0;
         c.lambda_t.setZero();
+        c.lambda_spin = 0.0;
+        c.lambda_roll.setZero();
+        c.couple.setZero();
       });
     }
     forRows(work, rows, I,
@@ -624,7 +635,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
         const SolverWork::Group& g = work.groups[work.island_group[q]];
         if (g.size > 1) {
-          sweepGroup(g, work, trees, rows);
+          sweepGroup(g, work, trees, rows, st.model, patch);
           continue;
         }
         const std::size_t k = g.first;
@@ -642,6 +653,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0)
           applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                    dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
+        if (patch && !onTree(c))
+          patchStep(st.model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
       }
       double change = bodyChange(work, I);
       if (I.trees > 0) {  // a tree's change as its contact points see it

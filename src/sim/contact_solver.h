@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/sim/contact.h"
+#include "cga_rigid_sim/sim/world_config.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -92,12 +93,18 @@ struct ContactRow {
   double depth = 0.0;                    ///< penetration, m (≤ 0: a gap)
   double target = 0.0;                   ///< the lower bound of u_n after the step, m/s
   double bias = 0.0;                     ///< position correction's target pseudo-velocity, m/s
-  double mu = 0.0;
+  double mu = 0.0;          ///< this step's friction coefficient: μ(v) (contact_friction.h)
+  double mu_surface = 0.0;  ///< the surfaces' combined μ (the kinetic one)
   double restitution = 0.0;
   double impact = 0.0;  ///< −u_n before the solve when it is an impact, else 0
   double lambda_n = 0.0;
   Eigen::Vector2d lambda_t = Eigen::Vector2d::Zero();
   double lambda_p = 0.0;  ///< position correction's accumulated pseudo-impulse
+  /// The contact model's patch couples (contact_patch.h), 0 when off: about n, about t1 and
+  /// t2, and their sum in world axes (the angular impulse on a; b takes its opposite).
+  double lambda_spin = 0.0;
+  Eigen::Vector2d lambda_roll = Eigen::Vector2d::Zero();
+  Eigen::Vector3d couple = Eigen::Vector3d::Zero();
 };
 
 struct SolverSettings {
@@ -123,6 +130,8 @@ struct SolverSettings {
   /// … plus this fraction of the fastest contact point's speed in the island beyond twice the
   /// kick: 1e-9 relative accuracy while its bodies move fast, nothing added once they rest.
   double tolerance_of_speed = 1e-9;
+  /// The contact model's extensions (doc/contact_model.md).
+  ContactModel model;
   /// Fill SolveStats' kinetic energies (the landings book theirs; the step's solve does not).
   bool kinetic_energy = false;
 };

@@ -56,6 +56,25 @@ std::optional<Error> checkSurface(const std::string& prefix, double mu, double e
   return std::nullopt;
 }
 
+// The contact model's extensions (doc/contact_model.md): every number finite, a static
+// friction at least the kinetic one, a Stribeck speed > 0, patch levers ≥ 0.
+std::optional<Error> checkContactModel(const ContactModel& m) {
+  if (!std::isfinite(m.static_friction_ratio) || m.static_friction_ratio < 1)
+    return Error("config", "contact_model.static_friction_ratio",
+                 "must be finite and >= 1: static friction is at least the kinetic one (got " +
+                     num(m.static_friction_ratio) + ")");
+  if (!std::isfinite(m.stribeck_speed) || !(m.stribeck_speed > 0))
+    return Error("config", "contact_model.stribeck_speed",
+                 "must be finite and > 0 (got " + num(m.stribeck_speed) + ")");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"rolling_resistance", m.rolling_resistance},
+        {"torsional_resistance", m.torsional_resistance}})
+    if (!std::isfinite(value) || value < 0)
+      return Error("config", std::string("contact_model.") + name,
+                   "must be finite and >= 0, a lever in m (got " + num(value) + ")");
+  return std::nullopt;
+}
+
 // The configuration's rules (input "config").
 std::optional<Error> checkConfig(const WorldConfig& config) {
   if (!std::isfinite(config.dt) || !(config.dt > 0))
@@ -78,6 +97,7 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
                  "must be from 1 to " + std::to_string(kMaxThreads) + " (got " +
                      std::to_string(config.threads) + ")");
   if (auto e = checkSurface("contact", config.contact_mu, config.contact_restitution)) return e;
+  if (auto e = checkContactModel(config.contact_model)) return e;
   if (config.ground_plane) {
     const GroundPlane& g = *config.ground_plane;
     if (!std::isfinite(g.height))

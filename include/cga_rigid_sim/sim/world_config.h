@@ -31,6 +31,32 @@ struct GroundPlane {
   scene::SurfaceParameters surface;
 };
 
+/// Extensions of the contact model beyond Coulomb's law with one μ and Newton's restitution
+/// (doc/contact_model.md). Each is off at its default, and then the solve is the plain model's
+/// bit for bit.
+struct ContactModel {
+  /// Static against kinetic friction (Stribeck's curve): a contact slipping at speed v (its
+  /// tangential relative velocity before the step's impulses) has the friction coefficient
+  ///   μ(v) = μ (1 + (r − 1) exp(−(v / v_s)²)),
+  /// μ the surfaces' (kinetic) coefficient, r = static_friction_ratio = μ_s/μ_k ≥ 1 (1: off)
+  /// and v_s = stribeck_speed > 0 (m/s) the speed at which friction passes from static to
+  /// kinetic.
+  double static_friction_ratio = 1.0;
+  double stribeck_speed = 0.05;
+  /// Rolling and torsional resistance of a contact patch: a contact whose surfaces touch over a
+  /// patch rather than a point resists turning about the tangents (rolling, as a pressure
+  /// centre moving within the patch, up to its half-width) and about the normal (spinning) by a
+  /// couple of at most ρ λ_n, ρ the lever of the patch in m (0: off). Solved with the contact's
+  /// friction as MuJoCo's condim 6 rows (doc/contact_model.md).
+  double rolling_resistance = 0.0;
+  double torsional_resistance = 0.0;
+
+  bool anyOn() const {
+    return static_friction_ratio != 1.0 || rolling_resistance != 0.0 ||
+           torsional_resistance != 0.0;
+  }
+};
+
 struct WorldConfig {
   double dt = 0.001;  ///< s, > 0
   std::string integrator = "auto";
@@ -53,6 +79,8 @@ struct WorldConfig {
   /// until a state set, an impulse, a wrench, a change of gravity or an awake body touching
   /// it wakes it. false: every body in contact is solved every step.
   bool contact_sleeping = true;
+  /// The contact model's extensions (doc/contact_model.md); all off by default.
+  ContactModel contact_model;
 
   /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
   /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all
