@@ -58,11 +58,21 @@ inline void contactModel(const py::handle& h, sim::ContactModel& out) {
                     : key == "stribeck_speed"       ? &out.stribeck_speed
                     : key == "rolling_resistance"   ? &out.rolling_resistance
                     : key == "torsional_resistance" ? &out.torsional_resistance
-                                                    : nullptr;
+                    : key == "restitution_speed_exponent"  ? &out.restitution_speed_exponent
+                    : key == "restitution_reference_speed" ? &out.restitution_reference_speed
+                    : key == "box_edge_radius"             ? &out.box_edge_radius
+                    : key == "normal_stiffness"            ? &out.normal_stiffness
+                    : key == "normal_dissipation"          ? &out.normal_dissipation
+                    : key == "tangential_restitution"      ? &out.tangential_restitution
+                    : key == "face_friction_ratio"         ? &out.face_friction_ratio
+                                                           : nullptr;
     if (!field)
       throw py::value_error("contact_model." + key +
                             ": unknown field (static_friction_ratio, stribeck_speed, "
-                            "rolling_resistance, torsional_resistance)");
+                            "rolling_resistance, torsional_resistance, "
+                            "restitution_speed_exponent, restitution_reference_speed, "
+                            "box_edge_radius, normal_stiffness, normal_dissipation, "
+                            "tangential_restitution, face_friction_ratio)");
     *field = number(kv.second, "contact_model." + key);
   }
 }

@@ -165,7 +165,7 @@ Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::V
 
 // The runs of rows solved as blocks (SolverWork::Group), and each block's pseudo-inverse:
 // K_ij = Σ over the movable sides of 1/m + (r_i × n)ᵀ I⁻¹ (r_j × n).
-void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
+void makeGroups(std::vector<ContactRow>& rows, SolverWork& work) {
   work.groups.clear();
   for (std::size_t k = 0; k < rows.size();) {
     std::size_t e = k + 1;
@@ -177,6 +177,7 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
     SolverWork::Group g;
     g.first = static_cast<int>(k);
     g.size = static_cast<int>(e - k);
+    for (std::size_t i = k; i < e; ++i) rows[i].face = g.size >= 3;
     if (g.size > 1) {
       Eigen::Matrix4d K = Eigen::Matrix4d::Identity();  // unused rows: a unit diagonal
       Eigen::Vector3d rn_a[4], rn_b[4];
@@ -341,17 +342,30 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   const double u_n = c.n.dot(u);
   const double h = st.h;
   const double d = c.depth;
-  c.mu = frictionCoefficient(st.model, c.mu_surface, (u - u_n * c.n).norm());
+  c.mu = frictionCoefficient(st.model, c.face ? st.model.face_friction_ratio * c.mu_surface
+                                              : c.mu_surface,
+                             (u - u_n * c.n).norm());
   c.impact = 0.0;
+  c.compliant = st.model.compliant() && !onTree(c);
+  if (c.compliant) {  // the spring's impulse; no target, no bounce
+    c.lambda_fixed = compliantImpulse(st.model, d, -u_n, h);
+    c.target = -std::numeric_limits<double>::infinity();
+    return;
+  }
   // A gap may close, no more; a gap within round-off of contact is contact (targets of
   // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
   // chase them for ever).
   double target = d >= -st.touching ? 0.0 : d / h;
   // An impact: the bodies approach faster than the resting threshold and touch within the
   // step. Newton's law sends them apart at e times the approach speed.
-  if (bounce && c.restitution > 0 && u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
+  c.target_t.setZero();
+  if (bounce && (c.restitution > 0 || st.model.tangential_restitution > 0) &&
+      u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
     c.impact = -u_n;
-    target = std::max(target, c.restitution * c.impact);
+    target = std::max(target, restitutionCoefficient(st.model, c.restitution, c.impact) * c.impact);
+    // Tangential restitution (doc/contact_model.md): the slip reversed, if the cone allows.
+    if (st.model.tangential_restitution > 0)
+      c.target_t = -st.model.tangential_restitution * Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u));
   }
   c.target = target;
 }
@@ -364,7 +378,7 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
 __attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c,
                                                                    const Eigen::Vector3d& u,
                                                                    double relax = 1.0) {
-  const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
+  const Eigen::Vector2d u_t = Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u)) - c.target_t;
   const double tmax = c.mu * c.lambda_n;
   Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
   if (lt.squaredNorm() > tmax * tmax) {                // slides
@@ -390,12 +404,37 @@ __attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c
 // ball's one contact converges in one sweep, and a relaxed step would only make it oscillate.
 constexpr double kFaceFrictionRelaxation = 1.5;
 
+// The friction (and patch couples) of a block's corners, corner by corner.
+void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
+                   std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
+  const int a = work.a[g.first], b = work.b[g.first];
+  for (int i = 0; i < g.size; ++i) {
+    ContactRow& c = rows[g.first + i];
+    const Eigen::Vector2d dt =
+        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
+    if (dt.x() != 0.0 || dt.y() != 0.0)
+      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
+                               dt.x() * c.t1 + dt.y() * c.t2);
+    if (patch) patchStep(model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
+  }
+}
+
 // One sweep over a block of a face's corners: their normal impulses together (the block's
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
 // would make one negative; then each corner's friction.
 void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
                 std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
+  if (rows[g.first].compliant) {  // the springs' impulses are fixed: friction alone
+    for (int i = 0; i < g.size; ++i) {
+      ContactRow& c = rows[g.first + i];
+      const double dn = c.lambda_fixed - c.lambda_n;
+      c.lambda_n = c.lambda_fixed;
+      if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
+    }
+    sweepFriction(g, work, trees, rows, model, patch);
+    return;
+  }
   Eigen::Vector4d r = Eigen::Vector4d::Zero();
   for (int i = 0; i < g.size; ++i) {
     const ContactRow& c = rows[g.first + i];
@@ -425,15 +464,7 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
     c.lambda_n += dn;
     if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
   }
-  for (int i = 0; i < g.size; ++i) {
-    ContactRow& c = rows[g.first + i];
-    const Eigen::Vector2d dt =
-        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
-    if (dt.x() != 0.0 || dt.y() != 0.0)
-      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
-                               dt.x() * c.t1 + dt.y() * c.t2);
-    if (patch) patchStep(model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
-  }
+  sweepFriction(g, work, trees, rows, model, patch);
 }
 
 }  // namespace
@@ -538,6 +569,9 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     c.lambda_spin = 0.0;
     c.lambda_roll.setZero();
     c.couple.setZero();
+    c.compliant = false;
+    c.lambda_fixed = 0.0;
+    c.target_t.setZero();
   }
 }
 
@@ -619,9 +653,9 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
     // A resting island of faces solved directly; the sweeps then only confirm it.
-    if (!bounce || !solveResting(bodies, rows, work, I)) {
+    if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I)) {
       forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
-        c.lambda_n = std::max(0.0, c.lambda_n);
+        c.lambda_n = c.compliant ? c.lambda_fixed : std::max(0.0, c.lambda_n);
         const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
         if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
         applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
@@ -644,7 +678,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         // Normal: the impulse that brings u_n to its target, kept ≥ 0.
         Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
         if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
-        const double ln = std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
+        const double ln = c.compliant ? c.lambda_fixed
+                                      : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
         const double dn = ln - c.lambda_n;
         c.lambda_n = ln;
         u += dn * c.k_n;  // the velocity after it, without applying it yet
@@ -720,7 +755,7 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
   }
   double max_bias = 0.0;
   for (ContactRow& c : rows) {
-    c.bias = c.depth > st.slop ? st.correction * (c.depth - st.slop) / st.h : 0.0;
+    c.bias = c.depth > st.slop && !c.compliant ? st.correction * (c.depth - st.slop) / st.h : 0.0;
     c.lambda_p = 0.0;
     max_bias = std::max(max_bias, c.bias);
   }

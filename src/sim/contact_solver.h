@@ -105,6 +105,15 @@ struct ContactRow {
   double lambda_spin = 0.0;
   Eigen::Vector2d lambda_roll = Eigen::Vector2d::Zero();
   Eigen::Vector3d couple = Eigen::Vector3d::Zero();
+  /// Compliant contact (ContactModel::normal_stiffness): the normal impulse is the spring's,
+  /// fixed before the sweeps, not solved.
+  bool compliant = false;
+  double lambda_fixed = 0.0;
+  /// The tangential velocity the friction aims at, (t1, t2): 0, or at an impact with
+  /// tangential restitution −e_t u_t⁻.
+  Eigen::Vector2d target_t = Eigen::Vector2d::Zero();
+  /// One of three or four coplanar corners of a face block (SolverWork::Group).
+  bool face = false;
 };
 
 struct SolverSettings {

@@ -183,3 +183,16 @@ def test_batch_releases_the_gil():
             counts.append(done.is_set())
     t.join()
     assert counts == [False], 'the main thread ran only %d times while the batch stepped' % n
+
+
+def test_contact_model_options_reach_the_core():
+    # Truth: a cube sliding flat at v0 stops after v0²/(2 μ g); with face_friction_ratio f its
+    # face slides with f μ: after v0²/(2 f μ g) (to the last step's travel, 1e-5 m).
+    def slide(**model):
+        w = cs.World(cs.load_urdf(CUBE_URDF), dt=1e-3, contact_mu=0.2,
+                     ground_plane={'height': 0.0, 'mu': 0.2}, contact_model=model)
+        w.set_body_state('body', [0, 0, 0.0524], [1, 0, 0, 0], [1.0, 0, 0], [0, 0, 0])
+        w.step(1000)
+        return w.poses()[0, 0]
+    assert slide() == pytest.approx(1.0 / (2 * 0.2 * 9.81), abs=1e-5)
+    assert slide(face_friction_ratio=1.25) == pytest.approx(1.0 / (2 * 0.25 * 9.81), abs=1e-5)

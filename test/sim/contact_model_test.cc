@@ -1,6 +1,7 @@
 // The contact model's extensions (doc/contact_model.md) against analytic solutions: static
-// against kinetic friction, rolling and torsional resistance of a patch; and off, the plain
-// model to the bit.
+// against kinetic friction, rolling and torsional resistance of a patch, speed-dependent and
+// tangential restitution, rounded edges, compliant contact, a face's friction; and off, the
+// plain model to the bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,7 +36,8 @@ std::unique_ptr<sim::World> modelWorld(scene::Scene scene, double mu, const sim:
 // with one whose inactive fields (the Stribeck speed) are changed.
 TEST(ContactModel, OffIsThePlainModelToTheBit) {
   sim::ContactModel idle;
-  idle.stribeck_speed = 0.3;  // used only with a static friction ratio above 1
+  idle.stribeck_speed = 0.3;               // used only with a static friction ratio above 1
+  idle.restitution_reference_speed = 0.3;  // used only with a restitution exponent above 0
   const auto scene = makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {2, 0.5, 0}),
                                 ball("s", 1.0, 0.1, {3, 0, 0.1}, {1, 0, 0}, {0, 3, 2}),
                                 block("c", 2.0, {0.1, 0.2, 0.3}, {-3, 0, 0.5}, {0, 0, 0},
@@ -139,6 +141,128 @@ TEST(ContactModel, TorsionalResistanceStopsASpinningBall) {
   EXPECT_LE(w->bodyStates()[0].com.head<2>().norm(), 1e-12);  // it spins in place
 }
 
+// Truth (Johnson's speed-dependent restitution): a ball dropped from h0 hits at v1 = √(2 g h0)
+// and leaves at e(v1) v1, e(v) = e (v_ref / v)^p, so its first apex is (e(v1) v1)² / (2 g). It
+// lands at the instant of touch (doc/contacts.md): the apex is exact but for the step's
+// sampling, ½ g h² = 4.9e-6 m: tolerance 1e-5 m.
+TEST(ContactModel, RestitutionFallsWithTheImpactSpeedAsJohnsonsLaw) {
+  const double h0 = 1.0, r = 0.1, e = 0.5, p = 0.25, v_ref = 0.5;
+  sim::ContactModel m;
+  m.restitution_speed_exponent = p;
+  m.restitution_reference_speed = v_ref;
+  sim::WorldConfig config;
+  config.contact_restitution = e;
+  config.ground_plane = sim::GroundPlane{};
+  config.contact_model = m;
+  auto w = sim::World::create(makeScene({ball("b", 1.0, r, {0, 0, h0 + r})}, {0, 0, -kG}), config);
+  ASSERT_TRUE(w.ok()) << w.error();
+  const double v1 = std::sqrt(2 * kG * h0);
+  const double e1 = std::min(1.0, e * std::pow(v_ref / v1, p));
+  double prev = 0.0, apex = -1.0;
+  for (int s = 0; s < 1500 && apex < 0; ++s) {
+    (*w)->step();
+    const double vz = (*w)->bodyStates()[0].linear_velocity.z();
+    if (prev > 0 && vz <= 0) apex = (*w)->bodyStates()[0].com.z() - r;
+    prev = vz;
+  }
+  EXPECT_NEAR(apex, std::pow(e1 * v1, 2) / (2 * kG), 1e-5);
+  EXPECT_GT(apex, e * e * h0 * 1.05);  // the law, not e: a visibly higher bounce
+}
+
+// Truth (rounded edges): a box of half-width a with edges rounded by r, standing on an edge
+// (turned 45° about x), touches the plane when its centre is (a − r)√2 + r high, lower than a
+// sharp box's a√2 by r(√2 − 1); the two corners of that edge then report a depth of 0 (to
+// round-off) at x = ±(a − r), on the plane. The same pose overlaps a sharp box by r(√2 − 1).
+// A face lying flat still rests at height a, its corners inset by r.
+TEST(ContactModel, RoundedEdgesTouchLowerOnAnEdgeAndLieFlatOnAFace) {
+  const double a = 0.05, r = 0.01;
+  const double z = (a - r) * std::sqrt(2.0) + r;
+  const Eigen::Quaterniond R(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitX()));
+  for (const double radius : {r, 0.0}) {
+    sim::ContactModel m;
+    m.box_edge_radius = radius;
+    sim::WorldConfig config;
+    config.ground_plane = sim::GroundPlane{};
+    config.contact_model = m;
+    auto w = sim::World::create(
+        makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, z}, {0, 0, 0}, R)}, {0, 0, 0}),
+        config);
+    ASSERT_TRUE(w.ok()) << w.error();
+    (*w)->step();
+    int touching = 0;
+    for (const auto& c : (*w)->contacts()) {
+      if (c.depth < -1e-9) continue;
+      ++touching;
+      EXPECT_NEAR(c.depth, radius > 0 ? 0.0 : r * (std::sqrt(2.0) - 1), 1e-12);
+      EXPECT_NEAR(std::abs(c.point.x()), a - radius, 1e-12);
+      EXPECT_NEAR(c.point.z(), radius > 0 ? 0.0 : -r * (std::sqrt(2.0) - 1), 1e-12);
+    }
+    EXPECT_EQ(touching, 2);
+  }
+  sim::ContactModel m;
+  m.box_edge_radius = r;
+  auto flat = modelWorld(makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, a})},
+                                   {0, 0, -kG}),
+                         0.5, m);
+  flat->step(1000);
+  EXPECT_NEAR(flat->bodyStates()[0].com.z(), a, 1e-10);
+  for (const auto& c : flat->contacts()) EXPECT_NEAR(std::abs(c.point.x()), a - r, 1e-12);
+}
+
+// Truth (compliant contact): a box on four corner springs of stiffness k settles where they
+// carry its weight, 4 k δ = m g, and oscillates about it at ω = √(4k/m) until the dissipation
+// stills it: after 3 s (many damping times) the centre is δ below its half-width to 1e-9 m.
+TEST(ContactModel, CompliantContactSinksUnderTheWeightBySpringLaw) {
+  const double a = 0.05, mass = 1.0, k = 2000.0;
+  sim::ContactModel m;
+  m.normal_stiffness = k;
+  m.normal_dissipation = 5.0;
+  auto w = modelWorld(makeScene({block("b", mass, {2 * a, 2 * a, 2 * a}, {0, 0, a})},
+                                {0, 0, -kG}),
+                      0.5, m, /*sleeping=*/false);
+  w->step(3000);
+  EXPECT_NEAR(w->bodyStates()[0].com.z(), a - mass * kG / (4 * k), 1e-9);
+}
+
+// Truth (tangential restitution): a ball (no spin) hits the plane at 2 m/s down and 1 m/s
+// across with friction high enough to stick; with e_t the contact point leaves slipping at
+// −e_t times its arrival slip (1 m/s), and keeps that in flight (no torque): slip = v_x − ω_y r
+// = −e_t to the solver's tolerance (1e-9 m/s).
+TEST(ContactModel, TangentialRestitutionReversesTheSlipAtAnImpact) {
+  const double r = 0.1, e_t = 0.4;
+  sim::ContactModel m;
+  m.tangential_restitution = e_t;
+  sim::WorldConfig config;
+  config.contact_mu = 10.0;
+  config.contact_restitution = 0.5;
+  config.ground_plane = sim::GroundPlane{};
+  config.contact_model = m;
+  auto w = sim::World::create(
+      makeScene({ball("b", 1.0, r, {0, 0, r + 0.0105}, {1.0, 0, -2.0})}, {0, 0, 0}), config);
+  ASSERT_TRUE(w.ok()) << w.error();
+  (*w)->step(20);
+  const auto b = (*w)->bodyStates()[0];
+  ASSERT_GT(b.linear_velocity.z(), 0.0);  // it bounced
+  EXPECT_NEAR(b.linear_velocity.x() - b.angular_velocity.y() * r, -e_t * 1.0, 1e-9);
+}
+
+// Truth (pressure-dependent friction): a box sliding flat on a face, its four corners a face
+// block, decelerates at f μ g and stops after v0² / (2 f μ g) (to the last step's travel,
+// 1e-5 m as the plain model's test); a ball's single contact keeps μ.
+TEST(ContactModel, AFaceSlidesWithTheFaceFrictionRatio) {
+  const double mu = 0.2, f = 1.5, v0 = 2.0;
+  sim::ContactModel m;
+  m.face_friction_ratio = f;
+  auto w = modelWorld(makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {v0, 0, 0}),
+                                 ball("s", 1.0, 0.1, {0, 3, 0.1}, {v0, 0, 0})},
+                                {0, 0, -kG}),
+                      mu, m);
+  w->step(100);
+  EXPECT_NEAR(w->bodyStates()[1].linear_velocity.x(), v0 - mu * kG * 0.1, 1e-10);
+  w->step(1900);
+  EXPECT_NEAR(w->bodyStates()[0].com.x(), v0 * v0 / (2 * f * mu * kG), 1e-5);
+}
+
 // Truth: the rules of doc/contact_model.md, each refused by name.
 TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
   const auto scene = makeScene({ball("s", 1.0, 0.1, {0, 0, 0.1})}, {0, 0, -kG});
@@ -164,6 +288,22 @@ TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
   m = {};
   m.torsional_resistance = std::nan("");
   EXPECT_NE(refusal(m).find("contact_model.torsional_resistance"), std::string::npos);
+  m = {};
+  m.tangential_restitution = 1.5;
+  EXPECT_NE(refusal(m).find("contact_model.tangential_restitution: must be in [0, 1]"),
+            std::string::npos);
+  m = {};
+  m.face_friction_ratio = 0.0;
+  EXPECT_NE(refusal(m).find("contact_model.face_friction_ratio: must be finite and > 0"),
+            std::string::npos);
+  m = {};
+  m.normal_stiffness = -1.0;
+  EXPECT_NE(refusal(m).find("contact_model.normal_stiffness: must be finite and >= 0"),
+            std::string::npos);
+  m = {};
+  m.restitution_reference_speed = 0.0;
+  EXPECT_NE(refusal(m).find("contact_model.restitution_reference_speed: must be finite and > 0"),
+            std::string::npos);
   EXPECT_EQ(refusal(sim::ContactModel()), "");
 }
 

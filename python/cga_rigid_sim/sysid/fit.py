@@ -7,11 +7,13 @@ e_pos = 1, e_rot = 90° (and is reported with its parameters).
 
 Search (deterministic: the same data give the same fit, on any number of workers):
 1. a scrambled Sobol sequence of `initial` points over the ranges (scipy's, seed 0);
-2. a compass (pattern) search from the best of them, in coordinates scaled to the ranges:
+2. a compass (pattern) search from the best of them, in coordinates scaled to the ranges
+   (logarithmically for a range from lo > 0 over at least a factor 30):
    each iteration evaluates the 2d neighbours x ± s e_i together (one batch of tasks), moves to
    the best if it improves J, else halves s; it stops when s < `tolerance` or after
    `max_evaluations`.
-Sensitivity: J along each parameter at the optimum ± 5 %, 10 % and 20 % of its range.
+Sensitivity: J along each parameter at the optimum ± 5 %, 10 % and 20 % of its range (of its
+value for a log-scaled one).
 """
 import math
 
@@ -35,17 +37,27 @@ def aggregate(results):
 class Problem:
     """The parameters to fit (ranges; a range of one value is held fixed) and fixed values."""
 
+    # A range from lo > 0 spanning at least this ratio is searched in log(x): a stiffness from
+    # 300 to 30 000 N/m matters by its factor, not by its difference.
+    LOG_RATIO = 30.0
+
     def __init__(self, ranges, fixed=None):
         self.free = [n for n, (lo, hi) in ranges.items() if hi > lo]
         self.lo = np.array([ranges[n][0] for n in self.free])
         self.hi = np.array([ranges[n][1] for n in self.free])
+        self.log = np.array([lo > 0 and hi / lo >= self.LOG_RATIO for lo, hi in
+                             zip(self.lo, self.hi)], dtype=bool)
         self.fixed = dict(fixed or {})
         self.fixed.update({n: lo for n, (lo, hi) in ranges.items() if hi == lo})
 
     def params(self, u):
-        """Parameters at scaled coordinates u in [0, 1]^d."""
+        """Parameters at scaled coordinates u in [0, 1]^d (log-scaled where self.log)."""
         p = dict(self.fixed)
-        x = self.lo + np.clip(u, 0.0, 1.0) * (self.hi - self.lo)
+        u = np.clip(u, 0.0, 1.0)
+        lin = self.lo + u * (self.hi - self.lo)
+        with np.errstate(divide='ignore', invalid='ignore'):
+            logs = self.lo * (self.hi / np.where(self.log, self.lo, 1.0)) ** u
+        x = np.where(self.log, logs, lin)
         p.update({n: float(v) for n, v in zip(self.free, x)})
         return p
 
@@ -108,7 +120,7 @@ def sensitivity(runner, indices, problem, params, fractions=(-0.2, -0.1, -0.05, 
     for i, name in enumerate(problem.free):
         span = problem.hi[i] - problem.lo[i]
         for f in fractions:
-            v = params[name] + f * span
+            v = params[name] * (1 + f) if problem.log[i] else params[name] + f * span
             if problem.lo[i] <= v <= problem.hi[i]:
                 p = dict(params)
                 p[name] = float(v)

@@ -22,9 +22,21 @@ PARAMETERS = {
                        'slip speed of the passage from static to kinetic friction, m/s, > 0'),
     'rolling_resistance': (0.0, math.inf, 0.0, 'model', 'lever of the rolling couple, m'),
     'torsional_resistance': (0.0, math.inf, 0.0, 'model', 'lever of the torsional couple, m'),
+    'restitution_speed_exponent': (0.0, math.inf, 0.0, 'model',
+                                   'p of e(v) = e (v_ref/v)^p, >= 0 (Johnson: 1/4)'),
+    'restitution_reference_speed': (0.0, math.inf, 1.0, 'model',
+                                    'v_ref of e(v), the speed at which e holds, m/s, > 0'),
+    'box_edge_radius': (0.0, math.inf, 0.0, 'model',
+                        'radius of the rounded edges of boxes on the plane, m'),
+    'normal_stiffness': (0.0, math.inf, 0.0, 'model',
+                         'Hunt-Crossley stiffness per contact point, N/m (0: rigid)'),
+    'normal_dissipation': (0.0, math.inf, 0.0, 'model', 'Hunt-Crossley dissipation, s/m'),
+    'tangential_restitution': (0.0, 1.0, 0.0, 'model', 'slip reversal at impacts, in [0, 1]'),
+    'face_friction_ratio': (0.0, math.inf, 1.0, 'model',
+                            'friction of a face over that of an edge or corner, > 0'),
 }
 # Parameters whose lowest value is excluded (a speed of 0 divides).
-OPEN_BELOW = {'stribeck_speed'}
+OPEN_BELOW = {'stribeck_speed', 'restitution_reference_speed', 'face_friction_ratio'}
 
 
 class ParameterError(ValueError):
