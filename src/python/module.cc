@@ -95,6 +95,11 @@ scene::SceneOptions sceneOptions(const py::object& gravity, const py::object& in
   return o;
 }
 
+// Row k of an (n, 3) array: the vector v.
+void setRow(Array& a, py::ssize_t k, const Eigen::Vector3d& v) {
+  std::copy(v.data(), v.data() + 3, a.mutable_data() + 3 * k);
+}
+
 // One world and what Python needs beside it.
 class PyWorld {
  public:
@@ -189,22 +194,16 @@ class PyWorld {
     for (py::ssize_t k = 0; k < n; ++k) {
       const sim::MomentumReport& m = r[k];
       names.push_back(m.body);
-      std::copy(m.linear.data(), m.linear.data() + 3, linear.mutable_data() + 3 * k);
-      std::copy(m.angular.data(), m.angular.data() + 3, angular.mutable_data() + 3 * k);
-      std::copy(m.angular_origin.data(), m.angular_origin.data() + 3,
-                origin.mutable_data() + 3 * k);
+      setRow(linear, k, m.linear);
+      setRow(angular, k, m.angular);
+      setRow(origin, k, m.angular_origin);
       kinetic.mutable_data()[k] = m.kinetic_energy;
       potential.mutable_data()[k] = m.potential_energy;
     }
-    py::dict out;
-    out["names"] = names;
-    out["linear"] = linear;
-    out["angular"] = angular;
-    out["angular_origin"] = origin;
-    out["kinetic_energy"] = kinetic;
-    out["potential_energy"] = potential;
-    out["dissipated_energy"] = r.back().dissipated_energy;
-    return out;
+    return py::dict(py::arg("names") = names, py::arg("linear") = linear,
+                    py::arg("angular") = angular, py::arg("angular_origin") = origin,
+                    py::arg("kinetic_energy") = kinetic, py::arg("potential_energy") = potential,
+                    py::arg("dissipated_energy") = r.back().dissipated_energy);
   }
 
   py::dict contacts() const {
@@ -217,24 +216,16 @@ class PyWorld {
       const sim::ContactReport& c = r[k];
       body_a.push_back(c.body_a), link_a.push_back(c.link_a);
       body_b.push_back(c.body_b), link_b.push_back(c.link_b);
-      std::copy(c.point.data(), c.point.data() + 3, point.mutable_data() + 3 * k);
-      std::copy(c.normal.data(), c.normal.data() + 3, normal.mutable_data() + 3 * k);
-      std::copy(c.friction_impulse.data(), c.friction_impulse.data() + 3,
-                friction.mutable_data() + 3 * k);
+      setRow(point, k, c.point);
+      setRow(normal, k, c.normal);
+      setRow(friction, k, c.friction_impulse);
       depth.mutable_data()[k] = c.depth;
       impulse.mutable_data()[k] = c.normal_impulse;
     }
-    py::dict out;
-    out["body_a"] = body_a;
-    out["link_a"] = link_a;
-    out["body_b"] = body_b;
-    out["link_b"] = link_b;
-    out["point"] = point;
-    out["normal"] = normal;
-    out["depth"] = depth;
-    out["normal_impulse"] = impulse;
-    out["friction_impulse"] = friction;
-    return out;
+    return py::dict(py::arg("body_a") = body_a, py::arg("link_a") = link_a,
+                    py::arg("body_b") = body_b, py::arg("link_b") = link_b,
+                    py::arg("point") = point, py::arg("normal") = normal, py::arg("depth") = depth,
+                    py::arg("normal_impulse") = impulse, py::arg("friction_impulse") = friction);
   }
 
   py::dict jointStates() const {
@@ -248,12 +239,8 @@ class PyWorld {
       velocity.mutable_data()[k] = r[k].velocity;
       effort.mutable_data()[k] = r[k].effort;
     }
-    py::dict out;
-    out["names"] = names;
-    out["position"] = position;
-    out["velocity"] = velocity;
-    out["effort"] = effort;
-    return out;
+    return py::dict(py::arg("names") = names, py::arg("position") = position,
+                    py::arg("velocity") = velocity, py::arg("effort") = effort);
   }
 
  private:

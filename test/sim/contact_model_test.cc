@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "contact_fixtures.h"
 
@@ -272,38 +275,32 @@ TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
     auto w = sim::World::create(scene, config);
     return w.ok() ? std::string() : w.error();
   };
-  sim::ContactModel m;
-  m.static_friction_ratio = 0.5;
-  EXPECT_NE(refusal(m).find("config.contact_model.static_friction_ratio: must be finite and >= 1"),
-            std::string::npos)
-      << refusal(m);
-  m = {};
-  m.stribeck_speed = 0.0;
-  EXPECT_NE(refusal(m).find("contact_model.stribeck_speed: must be finite and > 0"),
-            std::string::npos);
-  m = {};
-  m.rolling_resistance = -1e-3;
-  EXPECT_NE(refusal(m).find("contact_model.rolling_resistance: must be finite and >= 0"),
-            std::string::npos);
-  m = {};
-  m.torsional_resistance = std::nan("");
-  EXPECT_NE(refusal(m).find("contact_model.torsional_resistance"), std::string::npos);
-  m = {};
-  m.tangential_restitution = 1.5;
-  EXPECT_NE(refusal(m).find("contact_model.tangential_restitution: must be in [0, 1]"),
-            std::string::npos);
-  m = {};
-  m.face_friction_ratio = 0.0;
-  EXPECT_NE(refusal(m).find("contact_model.face_friction_ratio: must be finite and > 0"),
-            std::string::npos);
-  m = {};
-  m.normal_stiffness = -1.0;
-  EXPECT_NE(refusal(m).find("contact_model.normal_stiffness: must be finite and >= 0"),
-            std::string::npos);
-  m = {};
-  m.restitution_reference_speed = 0.0;
-  EXPECT_NE(refusal(m).find("contact_model.restitution_reference_speed: must be finite and > 0"),
-            std::string::npos);
+  // Each case: a setting broken, and the message it must give.
+  const std::vector<std::pair<void (*)(sim::ContactModel&), std::string>> cases = {
+      {[](sim::ContactModel& m) { m.static_friction_ratio = 0.5; },
+       "config.contact_model.static_friction_ratio: must be finite and >= 1"},
+      {[](sim::ContactModel& m) { m.stribeck_speed = 0.0; },
+       "contact_model.stribeck_speed: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.rolling_resistance = -1e-3; },
+       "contact_model.rolling_resistance: must be finite and >= 0"},
+      {[](sim::ContactModel& m) { m.torsional_resistance = std::nan(""); },
+       "contact_model.torsional_resistance: must be finite and >= 0"},
+      {[](sim::ContactModel& m) { m.tangential_restitution = 1.5; },
+       "contact_model.tangential_restitution: must be in [0, 1]"},
+      {[](sim::ContactModel& m) { m.face_friction_ratio = 0.0; },
+       "contact_model.face_friction_ratio: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.normal_stiffness = -1.0; },
+       "contact_model.normal_stiffness: must be finite and >= 0"},
+      {[](sim::ContactModel& m) { m.restitution_reference_speed = 0.0; },
+       "contact_model.restitution_reference_speed: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.box_edge_radius = -0.01; },
+       "contact_model.box_edge_radius: must be finite and >= 0"},
+  };
+  for (const auto& [breaks, message] : cases) {
+    sim::ContactModel m;
+    breaks(m);
+    EXPECT_NE(refusal(m).find(message), std::string::npos) << refusal(m);
+  }
   EXPECT_EQ(refusal(sim::ContactModel()), "");
 }
 
