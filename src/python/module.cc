@@ -67,8 +67,7 @@ scene::ParamValue paramValue(const py::handle& h, const std::string& where) {
     }
     return scene::ParamValue(std::move(map));
   }
-  if (py::isinstance<py::array>(h) || py::isinstance<py::list>(h) ||
-      py::isinstance<py::tuple>(h)) {
+  if (py::isinstance<py::array>(h) || py::isinstance<py::list>(h) || py::isinstance<py::tuple>(h)) {
     scene::ParamValue::List list;
     int k = 0;
     for (const auto& item : py::iter(h))
@@ -122,7 +121,8 @@ class PyWorld {
     const sim::Data& d = world_->data();
     const sim::Model& m = world_->model();
     for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-      const cga::Motor M_WL = d.bodies[i].state.M_WB * m.bodyOf(static_cast<int>(i)).links.front().M_BL;
+      const cga::Motor M_WL =
+          d.bodies[i].state.M_WB * m.bodyOf(static_cast<int>(i)).links.front().M_BL;
       const Eigen::Vector3d x = M_WL.translation(m.lambda);
       const Eigen::Quaterniond& q = M_WL.rotation();
       double* row = out + 7 * i;
@@ -188,8 +188,8 @@ class PyWorld {
   py::dict momentum() const {
     const std::vector<sim::MomentumReport> r = world_->momentum();
     const py::ssize_t n = static_cast<py::ssize_t>(r.size());
-    Array linear({n, py::ssize_t(3)}), angular({n, py::ssize_t(3)}),
-        origin({n, py::ssize_t(3)}), kinetic(n), potential(n);
+    Array linear({n, py::ssize_t(3)}), angular({n, py::ssize_t(3)}), origin({n, py::ssize_t(3)}),
+        kinetic(n), potential(n);
     std::vector<std::string> names;
     for (py::ssize_t k = 0; k < n; ++k) {
       const sim::MomentumReport& m = r[k];
@@ -299,11 +299,11 @@ PYBIND11_MODULE(_core, m) {
                            "A URDF loaded and validated (constant); worlds are made from it.")
       .def_property_readonly("source", [](const scene::Scene& s) { return s.source; })
       .def_property_readonly("robot_name", [](const scene::Scene& s) { return s.robot_name; })
-      .def_property_readonly("gravity",
-                             [](const scene::Scene& s) {
-                               return std::vector<double>{s.gravity_W.x(), s.gravity_W.y(),
-                                                          s.gravity_W.z()};
-                             })
+      .def_property_readonly(
+          "gravity",
+          [](const scene::Scene& s) {
+            return std::vector<double>{s.gravity_W.x(), s.gravity_W.y(), s.gravity_W.z()};
+          })
       .def_property_readonly("body_names",
                              [](const scene::Scene& s) {
                                std::vector<std::string> out;
@@ -334,8 +334,8 @@ PYBIND11_MODULE(_core, m) {
       "load_urdf_file",
       [](const std::string& path, const py::object& gravity, const py::object& initial_state,
          double lambda, bool relax_inertia) {
-        return orRaise(scene::loadUrdfFile(
-            path, sceneOptions(gravity, initial_state, lambda, relax_inertia)));
+        return orRaise(
+            scene::loadUrdfFile(path, sceneOptions(gravity, initial_state, lambda, relax_inertia)));
       },
       py::arg("path"), py::arg("gravity") = py::none(), py::arg("initial_state") = py::none(),
       py::arg("lambda_") = 1.0, py::arg("relax_inertia") = false,
@@ -362,8 +362,7 @@ PYBIND11_MODULE(_core, m) {
            "ground_plane, contact_mu, contact_restitution, contact_sleeping, contact_model, "
            "threads, world_frame, max_force, max_impulse (doc/python.md).")
       .def_property_readonly("time", [](const PyWorld& w) { return w.world().time(); })
-      .def_property_readonly("step_count",
-                             [](const PyWorld& w) { return w.world().stepCount(); })
+      .def_property_readonly("step_count", [](const PyWorld& w) { return w.world().stepCount(); })
       .def_property_readonly("dt", [](const PyWorld& w) { return w.world().config().dt; })
       .def_property_readonly("body_names", &PyWorld::bodyNames)
       .def(
@@ -392,9 +391,9 @@ PYBIND11_MODULE(_core, m) {
       .def("joint_states", &PyWorld::jointStates)
       .def(
           "apply_wrench",
-          [](PyWorld& w, const std::string& body, const py::object& force,
-             const py::object& point, const py::object& couple, const std::string& frame,
-             double start_time, double duration, double alpha) {
+          [](PyWorld& w, const std::string& body, const py::object& force, const py::object& point,
+             const py::object& couple, const std::string& frame, double start_time, double duration,
+             double alpha) {
             sim::WrenchInput in;
             in.body = body;
             in.frame = frame;
@@ -443,8 +442,8 @@ PYBIND11_MODULE(_core, m) {
           "(world axes).")
       .def(
           "set_joint_efforts",
-          [](PyWorld& w, const std::vector<std::string>& names,
-             const std::vector<double>& efforts, double stamp) {
+          [](PyWorld& w, const std::vector<std::string>& names, const std::vector<double>& efforts,
+             double stamp) {
             sim::JointEffortInput in;
             in.names = names;
             in.efforts = efforts;
@@ -455,8 +454,9 @@ PYBIND11_MODULE(_core, m) {
       .def("clear_wrenches", [](PyWorld& w) { w.world().clearWrenches(); })
       .def("reset", [](PyWorld& w) { w.world().reset(); })
       .def("summary", [](const PyWorld& w) { return w.world().summary(); })
-      .def("is_finite", [](const PyWorld& w) { return finiteState(w.world()); },
-           "Every moving body's state is finite.");
+      .def(
+          "is_finite", [](const PyWorld& w) { return finiteState(w.world()); },
+          "Every moving body's state is finite.");
 
   m.def(
       "step_worlds",

@@ -54,10 +54,10 @@ inline void contactModel(const py::handle& h, sim::ContactModel& out) {
     throw py::value_error("contact_model: expected a dict of the fields of doc/contact_model.md");
   for (const auto& kv : h.cast<py::dict>()) {
     const std::string key = py::str(kv.first);
-    double* field = key == "static_friction_ratio"  ? &out.static_friction_ratio
-                    : key == "stribeck_speed"       ? &out.stribeck_speed
-                    : key == "rolling_resistance"   ? &out.rolling_resistance
-                    : key == "torsional_resistance" ? &out.torsional_resistance
+    double* field = key == "static_friction_ratio"         ? &out.static_friction_ratio
+                    : key == "stribeck_speed"              ? &out.stribeck_speed
+                    : key == "rolling_resistance"          ? &out.rolling_resistance
+                    : key == "torsional_resistance"        ? &out.torsional_resistance
                     : key == "restitution_speed_exponent"  ? &out.restitution_speed_exponent
                     : key == "restitution_reference_speed" ? &out.restitution_reference_speed
                     : key == "box_edge_radius"             ? &out.box_edge_radius

@@ -34,8 +34,8 @@ inline double restitutionCoefficient(const ContactModel& model, double e, double
 inline double compliantImpulse(const ContactModel& model, double depth, double approach_speed,
                                double h) {
   if (depth <= 0.0) return 0.0;
-  const double f = model.normal_stiffness * depth *
-                   (1.0 + model.normal_dissipation * approach_speed);
+  const double f =
+      model.normal_stiffness * depth * (1.0 + model.normal_dissipation * approach_speed);
   return f > 0.0 ? h * f : 0.0;
 }
 

@@ -37,7 +37,7 @@ inline void patchStep(const ContactModel& m, ContactRow& c, SolverWork::Twist& A
                       SolverWork::Twist& B, const SolverWork::Response& ra,
                       const SolverWork::Response& rb) {
   const Eigen::Matrix3d K = ra.inv_inertia + rb.inv_inertia;  // rotation per unit couple
-  const Eigen::Vector3d w = A.w - B.w;                         // a's turning relative to b
+  const Eigen::Vector3d w = A.w - B.w;                        // a's turning relative to b
   Eigen::Vector3d dM = Eigen::Vector3d::Zero();
   if (m.torsional_resistance > 0.0) {
     const double k = c.n.dot(K * c.n);

@@ -342,8 +342,8 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   const double u_n = c.n.dot(u);
   const double h = st.h;
   const double d = c.depth;
-  c.mu = frictionCoefficient(st.model, c.face ? st.model.face_friction_ratio * c.mu_surface
-                                              : c.mu_surface,
+  c.mu = frictionCoefficient(st.model,
+                             c.face ? st.model.face_friction_ratio * c.mu_surface : c.mu_surface,
                              (u - u_n * c.n).norm());
   c.impact = 0.0;
   c.compliant = st.model.compliant() && !onTree(c);
@@ -678,8 +678,9 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         // Normal: the impulse that brings u_n to its target, kept ≥ 0.
         Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
         if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
-        const double ln = c.compliant ? c.lambda_fixed
-                                      : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
+        const double ln = c.compliant
+                              ? c.lambda_fixed
+                              : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
         const double dn = ln - c.lambda_n;
         c.lambda_n = ln;
         u += dn * c.k_n;  // the velocity after it, without applying it yet

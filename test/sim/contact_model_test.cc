@@ -41,11 +41,12 @@ TEST(ContactModel, OffIsThePlainModelToTheBit) {
   sim::ContactModel idle;
   idle.stribeck_speed = 0.3;               // used only with a static friction ratio above 1
   idle.restitution_reference_speed = 0.3;  // used only with a restitution exponent above 0
-  const auto scene = makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {2, 0.5, 0}),
-                                ball("s", 1.0, 0.1, {3, 0, 0.1}, {1, 0, 0}, {0, 3, 2}),
-                                block("c", 2.0, {0.1, 0.2, 0.3}, {-3, 0, 0.5}, {0, 0, 0},
-                                      Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized())))},
-                               {0, 0, -kG});
+  const auto scene = makeScene(
+      {block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {2, 0.5, 0}),
+       ball("s", 1.0, 0.1, {3, 0, 0.1}, {1, 0, 0}, {0, 3, 2}),
+       block("c", 2.0, {0.1, 0.2, 0.3}, {-3, 0, 0.5}, {0, 0, 0},
+             Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized())))},
+      {0, 0, -kG});
   auto plain = modelWorld(scene, 0.3, sim::ContactModel());
   auto off = modelWorld(scene, 0.3, idle);
   for (int s = 0; s < 1500; ++s) {
@@ -93,9 +94,8 @@ TEST(ContactModel, FastSlidingFeelsTheKineticFrictionAndStopsSooner) {
   sim::ContactModel m;
   m.static_friction_ratio = 2.0;
   m.stribeck_speed = vs;
-  auto w = modelWorld(makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {v0, 0, 0})},
-                                {0, 0, -kG}),
-                      mu_k, m);
+  auto w = modelWorld(
+      makeScene({block("b", 1.0, {0.2, 0.2, 0.2}, {0, 0, 0.1}, {v0, 0, 0})}, {0, 0, -kG}), mu_k, m);
   w->step(500);
   EXPECT_NEAR(w->bodyStates()[0].linear_velocity.x(), v0 - mu_k * kG * 0.5, 1e-9);
   w->step(1500);
@@ -115,9 +115,8 @@ TEST(ContactModel, RollingResistanceStopsARollingBall) {
   const double r = 0.1, v0 = 1.0, rho = 0.002, mu = 0.5;
   sim::ContactModel m;
   m.rolling_resistance = rho;
-  auto w = modelWorld(makeScene({ball("s", 1.0, r, {0, 0, r}, {v0, 0, 0}, {0, v0 / r, 0})},
-                                {0, 0, -kG}),
-                      mu, m);
+  auto w = modelWorld(
+      makeScene({ball("s", 1.0, r, {0, 0, r}, {v0, 0, 0}, {0, v0 / r, 0})}, {0, 0, -kG}), mu, m);
   const double a = rho * kG / (1.4 * r);
   w->step(500);
   EXPECT_NEAR(w->bodyStates()[0].linear_velocity.x(), v0 - a * 0.5, 1e-9);
@@ -133,8 +132,7 @@ TEST(ContactModel, TorsionalResistanceStopsASpinningBall) {
   const double r = 0.1, w0 = 20.0, rho = 0.004, mu = 0.5;
   sim::ContactModel m;
   m.torsional_resistance = rho;
-  auto w = modelWorld(makeScene({ball("s", 1.0, r, {0, 0, r}, {0, 0, 0}, {0, 0, w0})},
-                                {0, 0, -kG}),
+  auto w = modelWorld(makeScene({ball("s", 1.0, r, {0, 0, r}, {0, 0, 0}, {0, 0, w0})}, {0, 0, -kG}),
                       mu, m);
   const double I = 0.4 * r * r, alpha = rho * kG / I;
   w->step(300);
@@ -204,9 +202,8 @@ TEST(ContactModel, RoundedEdgesTouchLowerOnAnEdgeAndLieFlatOnAFace) {
   }
   sim::ContactModel m;
   m.box_edge_radius = r;
-  auto flat = modelWorld(makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, a})},
-                                   {0, 0, -kG}),
-                         0.5, m);
+  auto flat = modelWorld(
+      makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, a})}, {0, 0, -kG}), 0.5, m);
   flat->step(1000);
   EXPECT_NEAR(flat->bodyStates()[0].com.z(), a, 1e-10);
   for (const auto& c : flat->contacts()) EXPECT_NEAR(std::abs(c.point.x()), a - r, 1e-12);
@@ -220,8 +217,7 @@ TEST(ContactModel, CompliantContactSinksUnderTheWeightBySpringLaw) {
   sim::ContactModel m;
   m.normal_stiffness = k;
   m.normal_dissipation = 5.0;
-  auto w = modelWorld(makeScene({block("b", mass, {2 * a, 2 * a, 2 * a}, {0, 0, a})},
-                                {0, 0, -kG}),
+  auto w = modelWorld(makeScene({block("b", mass, {2 * a, 2 * a, 2 * a}, {0, 0, a})}, {0, 0, -kG}),
                       0.5, m, /*sleeping=*/false);
   w->step(3000);
   EXPECT_NEAR(w->bodyStates()[0].com.z(), a - mass * kG / (4 * k), 1e-9);
