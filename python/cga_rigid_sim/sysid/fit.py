@@ -12,7 +12,7 @@ Search (deterministic: the same data give the same fit, on any number of workers
    each iteration evaluates the 2d neighbours x ± s e_i together (one batch of tasks), moves to
    the best if it improves J, else halves s; it stops when s < `tolerance` or after
    `max_evaluations`.
-Sensitivity: J along each parameter at the optimum ± 5 %, 10 % and 20 % of its range (of its
+Sensitivity: J at the optimum and along each parameter ± 5 %, 10 % and 20 % of its range (of its
 value for a log-scaled one).
 """
 import math
@@ -113,7 +113,7 @@ def fit(runner, indices, problem, initial=16, max_evaluations=80, tolerance=1.0 
             'history': history, 'scaled': best[1].tolist()}
 
 
-def sensitivity(runner, indices, problem, params, fractions=(-0.2, -0.1, -0.05, 0.05, 0.1, 0.2)):
+def sensitivity(runner, indices, problem, params, fractions=(-0.2, -0.1, -0.05, 0.0, 0.05, 0.1, 0.2)):
     """J along each free parameter about `params`: {name: [(value, objective), …]}."""
     out = {}
     points, keys = [], []

@@ -99,23 +99,30 @@ def plot_error_vs_time(path, per_model, rate):
     plt.close(fig)
 
 
-def plot_sensitivity(path, sens_by_model):
-    """The objective along each fitted parameter about the optimum."""
+def plot_sensitivity(path, sens_by_model, columns=4):
+    """The objective along each fitted parameter about the optimum, a panel per parameter,
+    one colour per model."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     names = sorted({n for s in sens_by_model.values() for n in s})
     if not names:
         return
-    fig, axes = plt.subplots(1, len(names), figsize=(3.2 * len(names), 3), squeeze=False)
-    for ax, name in zip(axes[0], names):
+    cols = min(columns, len(names))
+    rows = (len(names) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.3 * cols, 2.6 * rows), squeeze=False)
+    colours = {m: 'C%d' % k for k, m in enumerate(sens_by_model)}
+    for ax, name in zip(axes.flat, names):
         for model, sens in sens_by_model.items():
             if name in sens:
                 v, j = zip(*sens[name])
-                ax.plot(v, j, 'o-', ms=3, label=model)
+                ax.plot(v, j, 'o-', ms=3, color=colours[model], label=model)
         ax.set_xlabel(name)
         ax.set_ylabel('objective J')
-    axes[0][0].legend(fontsize=7)
+    for ax in list(axes.flat)[len(names):]:
+        ax.axis('off')
+    handles = [plt.Line2D([], [], color=c, marker='o', label=m) for m, c in colours.items()]
+    fig.legend(handles=handles, loc='upper right', fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
