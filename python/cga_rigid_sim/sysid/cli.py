@@ -158,14 +158,9 @@ def cmd_cv(args):
         details['sensitivity'] = sens_by_model
         text = report.write(args.out, summary, details)
     else:
-        text = report.write(os.devnull and _tmpdir(), summary)
+        text = report.write(None, summary)
     print(text)
     return 0
-
-
-def _tmpdir():
-    import tempfile
-    return tempfile.mkdtemp(prefix='fit_report_')
 
 
 def _span(runs, idx):

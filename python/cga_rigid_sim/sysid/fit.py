@@ -113,7 +113,8 @@ def fit(runner, indices, problem, initial=16, max_evaluations=80, tolerance=1.0 
             'history': history, 'scaled': best[1].tolist()}
 
 
-def sensitivity(runner, indices, problem, params, fractions=(-0.2, -0.1, -0.05, 0.0, 0.05, 0.1, 0.2)):
+def sensitivity(runner, indices, problem, params,
+                fractions=(-0.2, -0.1, -0.05, 0.0, 0.05, 0.1, 0.2)):
     """J along each free parameter about `params`: {name: [(value, objective), …]}."""
     out = {}
     points, keys = [], []

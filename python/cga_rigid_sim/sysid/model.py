@@ -14,7 +14,8 @@ from . import scoring
 
 # name: (lowest physical value, highest, default, where it goes, what it is)
 PARAMETERS = {
-    'mu': (0.0, math.inf, 0.5, 'surface', 'Coulomb friction coefficient (kinetic), body and surface'),
+    'mu': (0.0, math.inf, 0.5, 'surface',
+           'Coulomb friction coefficient (kinetic), body and surface'),
     'restitution': (0.0, 1.0, 0.0, 'surface', "Newton's coefficient of restitution"),
     'height': (-math.inf, math.inf, 0.0, 'plane', 'height of the supporting plane, m'),
     'static_friction_ratio': (1.0, math.inf, 1.0, 'model', 'static over kinetic friction, >= 1'),
@@ -86,7 +87,8 @@ def parse_ranges(text_or_dict):
         check_value(name, lo)
         check_value(name, hi)
         if lo > hi:
-            raise ParameterError('%s: empty range %g:%g (low must not exceed high)' % (name, lo, hi))
+            raise ParameterError('%s: empty range %g:%g (low must not exceed high)'
+                                 % (name, lo, hi))
         if name in out:
             raise ParameterError('%s: given twice' % name)
         out[name] = (lo, hi)

@@ -10,8 +10,7 @@ def _fmt_params(p):
 
 
 def write(out_dir, summary, details=None):
-    """report.md and results.json in out_dir; returns the Markdown text."""
-    os.makedirs(out_dir, exist_ok=True)
+    """report.md and results.json in out_dir (None: nothing written); returns the Markdown."""
     lines = ['# Fit report', '',
              'Data: %s (%d runs), URDF: %s, body %s, size %.4g m, dt %.6g s, %s.' % (
                  summary['data'], summary['runs'], summary['urdf'], summary['body'],
@@ -22,7 +21,8 @@ def write(out_dir, summary, details=None):
              'train rotation | test position | test rotation | evaluations |',
              '|---|---|---|---|---|---|---|---|---|---|']
     for f in summary['folds']:
-        lines.append('| %s | %d | %s | %s | %s | %.1f %% | %.1f° | %.1f %% ± %.1f | %.1f° ± %.1f | %d |' % (
+        row = '| %s | %d | %s | %s | %s | %.1f %% | %.1f° | %.1f %% ± %.1f | %.1f° ± %.1f | %d |'
+        lines.append(row % (
             f['model'], f['fold'], f['train_runs'], f['test_runs'], _fmt_params(f['params']),
             100 * f['train']['position'], f['train']['rotation_deg'],
             100 * f['test']['position_mean'], 100 * f['test']['position_std'],
@@ -46,6 +46,9 @@ def write(out_dir, summary, details=None):
         for title, name in summary['plots']:
             lines.append('![%s](%s)' % (title, name))
     text = '\n'.join(lines) + '\n'
+    if out_dir is None:
+        return text
+    os.makedirs(out_dir, exist_ok=True)
     with open(os.path.join(out_dir, 'report.md'), 'w') as f:
         f.write(text)
     with open(os.path.join(out_dir, 'results.json'), 'w') as f:
