@@ -348,7 +348,11 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   c.impact = 0.0;
   c.compliant = st.model.compliant() && !onTree(c);
   if (c.compliant) {  // the spring's impulse; no target, no bounce
-    c.lambda_fixed = compliantImpulse(st.model, d, -u_n, h);
+    // δ̇ at the step's start: against an immovable side, without the step's gravity kick
+    // (at rest the kick's g h would read as an approach and the damper would push too hard).
+    const bool one_sided = work.b[k] + 1 == static_cast<int>(work.response.size());
+    const double approach = -u_n + (one_sided ? c.n.dot(st.gravity_kick_W) : 0.0);
+    c.lambda_fixed = compliantImpulse(st.model, d, approach, h);
     c.target = -std::numeric_limits<double>::infinity();
     return;
   }

@@ -119,6 +119,9 @@ struct ContactRow {
 struct SolverSettings {
   double h = 0.001;         ///< step, s
   double kick = 0.0;        ///< |g| h, m/s
+  /// g h, world axes, m/s: what the step's kick added to every free body's velocity (the
+  /// compliant contacts' damping reads the velocity before it).
+  Eigen::Vector3d gravity_kick_W = Eigen::Vector3d::Zero();
   double rest_speed = 0.0;  ///< landings slower than this do not bounce, m/s
   /// Approaches slower than this (after the step's kick) do not bounce, m/s: rest_speed plus
   /// what the kick adds, so a landing too slow to bounce does not bounce here either.

@@ -221,6 +221,7 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   SolverSettings settings;
   settings.h = h;
   settings.kick = model.scene.gravity_W.norm() * h;
+  settings.gravity_kick_W = model.scene.gravity_W * h;
   settings.rest_speed = 2.0 * settings.kick;
   settings.bounce_speed = 3.0 * model.scene.gravity_W.norm() * h;
   settings.model = model.config.contact_model;

@@ -167,7 +167,8 @@ TEST(ContactModel, RestitutionFallsWithTheImpactSpeedAsJohnsonsLaw) {
     prev = vz;
   }
   EXPECT_NEAR(apex, std::pow(e1 * v1, 2) / (2 * kG), 1e-5);
-  EXPECT_GT(apex, e * e * h0 * 1.05);  // the law, not e: a visibly higher bounce
+  // The law, not e: at 4.4 m/s, above v_ref, e(v1) = 0.29 and the bounce is a third of e² h0.
+  EXPECT_LT(apex, 0.5 * e * e * h0);
 }
 
 // Truth (rounded edges): a box of half-width a with edges rounded by r, standing on an edge
@@ -211,7 +212,9 @@ TEST(ContactModel, RoundedEdgesTouchLowerOnAnEdgeAndLieFlatOnAFace) {
 
 // Truth (compliant contact): a box on four corner springs of stiffness k settles where they
 // carry its weight, 4 k δ = m g, and oscillates about it at ω = √(4k/m) until the dissipation
-// stills it: after 3 s (many damping times) the centre is δ below its half-width to 1e-9 m.
+// stills it (damping ratio 0.27, decay time 0.04 s): after 3 s the centre is δ below its
+// half-width to 1e-9 m. The damper reads the velocity before the step's gravity kick: at rest
+// it adds nothing (with the kicked velocity it would push 1 + d g h = 4.9 % too hard).
 TEST(ContactModel, CompliantContactSinksUnderTheWeightBySpringLaw) {
   const double a = 0.05, mass = 1.0, k = 2000.0;
   sim::ContactModel m;
