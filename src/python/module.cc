@@ -137,52 +137,46 @@ class PyWorld {
     return a;
   }
 
-  Array com() const {
+  // An (n, width) array, row i filled from moving body i's state by fill(state, row).
+  template <class Fill>
+  Array perBody(py::ssize_t width, Fill&& fill) const {
     const sim::Data& d = world_->data();
-    const double lambda = world_->model().lambda;
-    Array a({movingCount(), 3});
-    double* p = a.mutable_data();
-    for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-      const Eigen::Vector3d x = dynamics::comPosition_W(d.bodies[i].state, lambda);
-      std::copy(x.data(), x.data() + 3, p + 3 * i);
-    }
+    Array a({py::ssize_t(movingCount()), width});
+    for (std::size_t i = 0; i < d.bodies.size(); ++i)
+      fill(d.bodies[i].state, a.mutable_data() + width * static_cast<py::ssize_t>(i));
     return a;
+  }
+
+  Array com() const {
+    const double lambda = world_->model().lambda;
+    return perBody(3, [lambda](const dynamics::BodyState& s, double* row) {
+      const Eigen::Vector3d x = dynamics::comPosition_W(s, lambda);
+      std::copy(x.data(), x.data() + 3, row);
+    });
   }
 
   Array velocities() const {
-    const sim::Data& d = world_->data();
     const double lambda = world_->model().lambda;
-    Array a({movingCount(), 6});
-    double* p = a.mutable_data();
-    for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-      const Eigen::Vector3d v = dynamics::comVelocity_W(d.bodies[i].state, lambda);
-      const Eigen::Vector3d w = dynamics::angularVelocity_W(d.bodies[i].state);
-      std::copy(v.data(), v.data() + 3, p + 6 * i);
-      std::copy(w.data(), w.data() + 3, p + 6 * i + 3);
-    }
-    return a;
+    return perBody(6, [lambda](const dynamics::BodyState& s, double* row) {
+      const Eigen::Vector3d v = dynamics::comVelocity_W(s, lambda);
+      const Eigen::Vector3d w = dynamics::angularVelocity_W(s);
+      std::copy(v.data(), v.data() + 3, row);
+      std::copy(w.data(), w.data() + 3, row + 3);
+    });
   }
 
   Array motors() const {
-    const sim::Data& d = world_->data();
-    Array a({movingCount(), 8});
-    double* p = a.mutable_data();
-    for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-      const auto c = d.bodies[i].state.M_WB.coefficients();
-      std::copy(c.begin(), c.end(), p + 8 * i);
-    }
-    return a;
+    return perBody(8, [](const dynamics::BodyState& s, double* row) {
+      const auto c = s.M_WB.coefficients();
+      std::copy(c.begin(), c.end(), row);
+    });
   }
 
   Array bivelocities() const {
-    const sim::Data& d = world_->data();
-    Array a({movingCount(), 6});
-    double* p = a.mutable_data();
-    for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-      const auto c = d.bodies[i].state.omega_B.coefficients();
-      std::copy(c.begin(), c.end(), p + 6 * i);
-    }
-    return a;
+    return perBody(6, [](const dynamics::BodyState& s, double* row) {
+      const auto c = s.omega_B.coefficients();
+      std::copy(c.begin(), c.end(), row);
+    });
   }
 
   py::dict momentum() const {
