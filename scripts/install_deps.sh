@@ -28,7 +28,10 @@ packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-ya
           libqhull-dev  # convex hulls of collision meshes (src/scene/convex_hull.cc)
           # seeing a run (README "Seeing the simulation"): plots from a bag, rviz under a virtual
           # X server with mesa's software GL, and a screenshot of it
-          python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick)
+          python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick
+          # the Python module (pybind11) and the fit on Dask (doc/python.md, doc/fitting.md)
+          pybind11-dev python3-pybind11 python3-setuptools python3-numpy python3-scipy python3-pytest
+          python3-distributed python3-dask)
 
 candidate_of() {  # prints the apt candidate version of $1, or nothing
   apt-cache policy "$1" 2>/dev/null | awk '/Candidate:/ {print $2}' | grep -v '^(none)$' || true

@@ -49,9 +49,10 @@ mkdir -p "$results/cga_rigid_sim"
 timeout_s="${CGA_RIGID_SIM_TEST_TIMEOUT:-600}"
 
 # The test targets catkin registered for this package, e.g.
-# run_tests_cga_rigid_sim_gtest_test_cga, run_tests_cga_rigid_sim_rostest_test_ros_x.test
+# run_tests_cga_rigid_sim_gtest_test_cga, run_tests_cga_rigid_sim_rostest_test_ros_x.test, and
+# run_tests_cga_rigid_sim_pytest_python (test/python/, pytest's JUnit XML)
 mapfile -t targets < <(make -C "$build_dir" --no-print-directory help |
-  sed -n 's/^\.\.\. \(run_tests_cga_rigid_sim_\(gtest\|rostest\)_..*\)$/\1/p' | sort)
+  sed -n 's/^\.\.\. \(run_tests_cga_rigid_sim_\(gtest\|rostest\|pytest\)_..*\)$/\1/p' | sort)
 
 write_failure() {  # $1 = target, $2 = reason; a JUnit file the summary counts as one failure
   local file="$results/cga_rigid_sim/FAILED-$1.xml"

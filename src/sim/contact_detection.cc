@@ -285,6 +285,17 @@ void planeContacts(const Model& model, const Data& data, CollisionCache& cache, 
         break;
       }
       case Shape::Kind::kBox:
+        // Rounded edges (doc/contact_model.md#rounded-edges): the corner of the box smaller by
+        // r, pushed down by r: the lowest point of the ball swept round that corner.
+        if (const double r =
+                std::min(model.config.contact_model.box_edge_radius, 0.5 * shape.size.minCoeff());
+            r > 0) {
+          for (std::size_t v = 0; v < cs.vertices_S.size(); ++v) {
+            const Eigen::Vector3d& corner = cs.vertices_S[v];
+            add(X * (corner - r * corner.cwiseSign()) - r * up, static_cast<int>(v));
+          }
+          break;
+        }
         for (std::size_t v = 0; v < cs.vertices_S.size(); ++v)
           add(X * cs.vertices_S[v], static_cast<int>(v));
         break;

@@ -73,8 +73,8 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
     for (std::size_t k = 0; k < S.land_found.size(); ++k) {
       const ContactRow& r = S.land_rows[k];
       const Eigen::Vector3d P = r.lambda_n * r.n + r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
-      T += dynamics::impulseMoment_B(b.state, cga::Force(P, 0.0), S.land_found[k].point_W,
-                                     Eigen::Vector3d::Zero(), lambda);
+      T += dynamics::impulseMoment_B(b.state, cga::Force(P, 0.0), S.land_found[k].point_W, r.couple,
+                                     lambda);
       Contact c = S.land_found[k];
       c.normal_impulse = r.lambda_n;
       c.friction_impulse_W = r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "contact_friction.h"
+#include "contact_patch.h"
 #include "contact_resting.h"
 
 namespace cga_rigid_sim {
@@ -163,7 +165,7 @@ Eigen::Matrix4d pseudoInverse(const Eigen::Matrix4d& K, int size, const Eigen::V
 
 // The runs of rows solved as blocks (SolverWork::Group), and each block's pseudo-inverse:
 // K_ij = Σ over the movable sides of 1/m + (r_i × n)ᵀ I⁻¹ (r_j × n).
-void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
+void makeGroups(std::vector<ContactRow>& rows, SolverWork& work) {
   work.groups.clear();
   for (std::size_t k = 0; k < rows.size();) {
     std::size_t e = k + 1;
@@ -175,6 +177,7 @@ void makeGroups(const std::vector<ContactRow>& rows, SolverWork& work) {
     SolverWork::Group g;
     g.first = static_cast<int>(k);
     g.size = static_cast<int>(e - k);
+    for (std::size_t i = k; i < e; ++i) rows[i].face = g.size >= 3;
     if (g.size > 1) {
       Eigen::Matrix4d K = Eigen::Matrix4d::Identity();  // unused rows: a unit diagonal
       Eigen::Vector3d rn_a[4], rn_b[4];
@@ -339,16 +342,34 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   const double u_n = c.n.dot(u);
   const double h = st.h;
   const double d = c.depth;
+  c.mu = frictionCoefficient(st.model,
+                             c.face ? st.model.face_friction_ratio * c.mu_surface : c.mu_surface,
+                             (u - u_n * c.n).norm());
   c.impact = 0.0;
+  c.compliant = st.model.compliant() && !onTree(c);
+  if (c.compliant) {  // the spring's impulse; no target, no bounce
+    // δ̇ at the step's start: against an immovable side, without the step's gravity kick
+    // (at rest the kick's g h would read as an approach and the damper would push too hard).
+    const bool one_sided = work.b[k] + 1 == static_cast<int>(work.response.size());
+    const double approach = -u_n + (one_sided ? c.n.dot(st.gravity_kick_W) : 0.0);
+    c.lambda_fixed = compliantImpulse(st.model, d, approach, h);
+    c.target = -std::numeric_limits<double>::infinity();
+    return;
+  }
   // A gap may close, no more; a gap within round-off of contact is contact (targets of
   // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
   // chase them for ever).
   double target = d >= -st.touching ? 0.0 : d / h;
   // An impact: the bodies approach faster than the resting threshold and touch within the
   // step. Newton's law sends them apart at e times the approach speed.
-  if (bounce && c.restitution > 0 && u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
+  c.target_t.setZero();
+  if (bounce && (c.restitution > 0 || st.model.tangential_restitution > 0) &&
+      u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
     c.impact = -u_n;
-    target = std::max(target, c.restitution * c.impact);
+    target = std::max(target, restitutionCoefficient(st.model, c.restitution, c.impact) * c.impact);
+    // Tangential restitution (doc/contact_model.md): the slip reversed, if the cone allows.
+    if (st.model.tangential_restitution > 0)
+      c.target_t = -st.model.tangential_restitution * Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u));
   }
   c.target = target;
 }
@@ -361,7 +382,7 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
 __attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c,
                                                                    const Eigen::Vector3d& u,
                                                                    double relax = 1.0) {
-  const Eigen::Vector2d u_t(c.t1.dot(u), c.t2.dot(u));
+  const Eigen::Vector2d u_t = Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u)) - c.target_t;
   const double tmax = c.mu * c.lambda_n;
   Eigen::Vector2d lt = c.lambda_t - c.k_tt_inv * u_t;  // sticks, if the cone allows
   if (lt.squaredNorm() > tmax * tmax) {                // slides
@@ -387,12 +408,37 @@ __attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c
 // ball's one contact converges in one sweep, and a relaxed step would only make it oscillate.
 constexpr double kFaceFrictionRelaxation = 1.5;
 
+// The friction (and patch couples) of a block's corners, corner by corner.
+void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
+                   std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
+  const int a = work.a[g.first], b = work.b[g.first];
+  for (int i = 0; i < g.size; ++i) {
+    ContactRow& c = rows[g.first + i];
+    const Eigen::Vector2d dt =
+        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
+    if (dt.x() != 0.0 || dt.y() != 0.0)
+      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
+                               dt.x() * c.t1 + dt.y() * c.t2);
+    if (patch) patchStep(model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
+  }
+}
+
 // One sweep over a block of a face's corners: their normal impulses together (the block's
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
 // would make one negative; then each corner's friction.
 void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
-                std::vector<ContactRow>& rows) {
+                std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
+  if (rows[g.first].compliant) {  // the springs' impulses are fixed: friction alone
+    for (int i = 0; i < g.size; ++i) {
+      ContactRow& c = rows[g.first + i];
+      const double dn = c.lambda_fixed - c.lambda_n;
+      c.lambda_n = c.lambda_fixed;
+      if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
+    }
+    sweepFriction(g, work, trees, rows, model, patch);
+    return;
+  }
   Eigen::Vector4d r = Eigen::Vector4d::Zero();
   for (int i = 0; i < g.size; ++i) {
     const ContactRow& c = rows[g.first + i];
@@ -422,14 +468,7 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
     c.lambda_n += dn;
     if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
   }
-  for (int i = 0; i < g.size; ++i) {
-    ContactRow& c = rows[g.first + i];
-    const Eigen::Vector2d dt =
-        frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
-    if (dt.x() != 0.0 || dt.y() != 0.0)
-      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
-                               dt.x() * c.t1 + dt.y() * c.t2);
-  }
+  sweepFriction(g, work, trees, rows, model, patch);
 }
 
 }  // namespace
@@ -527,10 +566,16 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<SolverB
     }
     c.inv_k_nn = 1.0 / c.k_nn;  // 0 for an infinite k: no impulse
     c.inv_k_t = 1.0 / c.k_t;
-    c.mu = ct.mu;
+    c.mu = c.mu_surface = ct.mu;
     c.restitution = ct.restitution;
     c.depth = ct.depth;
     c.lambda_p = 0.0;
+    c.lambda_spin = 0.0;
+    c.lambda_roll.setZero();
+    c.couple.setZero();
+    c.compliant = false;
+    c.lambda_fixed = 0.0;
+    c.target_t.setZero();
   }
 }
 
@@ -633,6 +678,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
   const double tolerance = st.tolerance + st.tolerance_of_kick * st.kick +
                            st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
   int sweeps = 0;
+  const bool patch = patchResistance(st.model);
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) {  // start again from the velocities before the contacts, cold
@@ -644,15 +690,17 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       forRows(work, rows, I, [](std::size_t, ContactRow& c) {
         c.lambda_n = 0.0;
         c.lambda_t.setZero();
+        c.lambda_spin = 0.0;
+        c.lambda_roll.setZero();
+        c.couple.setZero();
       });
     }
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
     // A resting island of faces solved directly; the sweeps then only confirm it.
-    if (!bounce ||
-        !solveResting(bodies, rows, work, I)) {
+    if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I)) {
       forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {  // warm start, inside the cone
-        c.lambda_n = std::max(0.0, c.lambda_n);
+        c.lambda_n = c.compliant ? c.lambda_fixed : std::max(0.0, c.lambda_n);
         const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
         if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
         applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
@@ -666,7 +714,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
         const SolverWork::Group& g = work.groups[work.island_group[q]];
         if (g.size > 1) {
-          sweepGroup(g, work, trees, rows);
+          sweepGroup(g, work, trees, rows, st.model, patch);
           continue;
         }
         const std::size_t k = g.first;
@@ -675,7 +723,9 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         // Normal: the impulse that brings u_n to its target, kept ≥ 0.
         Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
         if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
-        const double ln = std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
+        const double ln = c.compliant
+                              ? c.lambda_fixed
+                              : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
         const double dn = ln - c.lambda_n;
         c.lambda_n = ln;
         u += dn * c.k_n;  // the velocity after it, without applying it yet
@@ -684,6 +734,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0)
           applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
                                    dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
+        if (patch && !onTree(c))
+          patchStep(st.model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
       }
       // The joints' limits, solved with the contacts (a rate's change counts as a point's at
       // 1 m).
@@ -757,7 +809,7 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
   }
   double max_bias = 0.0;
   for (ContactRow& c : rows) {
-    c.bias = c.depth > st.slop ? st.correction * (c.depth - st.slop) / st.h : 0.0;
+    c.bias = c.depth > st.slop && !c.compliant ? st.correction * (c.depth - st.slop) / st.h : 0.0;
     c.lambda_p = 0.0;
     max_bias = std::max(max_bias, c.bias);
   }

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/sim/contact.h"
+#include "cga_rigid_sim/sim/world_config.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -107,17 +108,35 @@ struct ContactRow {
   double depth = 0.0;                    ///< penetration, m (≤ 0: a gap)
   double target = 0.0;                   ///< the lower bound of u_n after the step, m/s
   double bias = 0.0;                     ///< position correction's target pseudo-velocity, m/s
-  double mu = 0.0;
+  double mu = 0.0;          ///< this step's friction coefficient: μ(v) (contact_friction.h)
+  double mu_surface = 0.0;  ///< the surfaces' combined μ (the kinetic one)
   double restitution = 0.0;
   double impact = 0.0;  ///< −u_n before the solve when it is an impact, else 0
   double lambda_n = 0.0;
   Eigen::Vector2d lambda_t = Eigen::Vector2d::Zero();
   double lambda_p = 0.0;  ///< position correction's accumulated pseudo-impulse
+  /// The contact model's patch couples (contact_patch.h), 0 when off: about n, about t1 and
+  /// t2, and their sum in world axes (the angular impulse on a; b takes its opposite).
+  double lambda_spin = 0.0;
+  Eigen::Vector2d lambda_roll = Eigen::Vector2d::Zero();
+  Eigen::Vector3d couple = Eigen::Vector3d::Zero();
+  /// Compliant contact (ContactModel::normal_stiffness): the normal impulse is the spring's,
+  /// fixed before the sweeps, not solved.
+  bool compliant = false;
+  double lambda_fixed = 0.0;
+  /// The tangential velocity the friction aims at, (t1, t2): 0, or at an impact with
+  /// tangential restitution −e_t u_t⁻.
+  Eigen::Vector2d target_t = Eigen::Vector2d::Zero();
+  /// One of three or four coplanar corners of a face block (SolverWork::Group).
+  bool face = false;
 };
 
 struct SolverSettings {
   double h = 0.001;         ///< step, s
   double kick = 0.0;        ///< |g| h, m/s
+  /// g h, world axes, m/s: what the step's kick added to every free body's velocity (the
+  /// compliant contacts' damping reads the velocity before it).
+  Eigen::Vector3d gravity_kick_W = Eigen::Vector3d::Zero();
   double rest_speed = 0.0;  ///< landings slower than this do not bounce, m/s
   /// Approaches slower than this (after the step's kick) do not bounce, m/s: rest_speed plus
   /// what the kick adds, so a landing too slow to bounce does not bounce here either.
@@ -144,6 +163,8 @@ struct SolverSettings {
   /// … plus this fraction of the fastest contact point's speed in the island beyond twice the
   /// kick: 1e-9 relative accuracy while its bodies move fast, nothing added once they rest.
   double tolerance_of_speed = 1e-9;
+  /// The contact model's extensions (doc/contact_model.md).
+  ContactModel model;
   /// Fill SolveStats' kinetic energies (the landings book theirs; the step's solve does not).
   bool kinetic_energy = false;
 };

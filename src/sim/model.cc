@@ -58,6 +58,37 @@ std::optional<Error> checkSurface(const std::string& prefix, double mu, double e
   return std::nullopt;
 }
 
+// The contact model's extensions (doc/contact_model.md): every number finite, a static
+// friction at least the kinetic one, a Stribeck speed > 0, patch levers ≥ 0, a restitution
+// exponent ≥ 0 and its reference speed > 0.
+std::optional<Error> checkContactModel(const ContactModel& m) {
+  const auto field = [](const char* name) { return std::string("contact_model.") + name; };
+  if (!std::isfinite(m.static_friction_ratio) || m.static_friction_ratio < 1)
+    return Error("config", field("static_friction_ratio"),
+                 "must be finite and >= 1: static friction is at least the kinetic one (got " +
+                     num(m.static_friction_ratio) + ")");
+  if (!std::isfinite(m.tangential_restitution) || m.tangential_restitution < 0 ||
+      m.tangential_restitution > 1)
+    return Error("config", field("tangential_restitution"),
+                 "must be in [0, 1] (got " + num(m.tangential_restitution) + ")");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"stribeck_speed", m.stribeck_speed},
+        {"restitution_reference_speed", m.restitution_reference_speed},
+        {"face_friction_ratio", m.face_friction_ratio}})
+    if (!std::isfinite(value) || !(value > 0))
+      return Error("config", field(name), "must be finite and > 0 (got " + num(value) + ")");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"rolling_resistance", m.rolling_resistance},
+        {"torsional_resistance", m.torsional_resistance},
+        {"restitution_speed_exponent", m.restitution_speed_exponent},
+        {"box_edge_radius", m.box_edge_radius},
+        {"normal_stiffness", m.normal_stiffness},
+        {"normal_dissipation", m.normal_dissipation}})
+    if (!std::isfinite(value) || value < 0)
+      return Error("config", field(name), "must be finite and >= 0 (got " + num(value) + ")");
+  return std::nullopt;
+}
+
 // The configuration's rules (input "config").
 std::optional<Error> checkConfig(const WorldConfig& config) {
   if (!std::isfinite(config.dt) || !(config.dt > 0))
@@ -80,6 +111,7 @@ std::optional<Error> checkConfig(const WorldConfig& config) {
                  "must be from 1 to " + std::to_string(kMaxThreads) + " (got " +
                      std::to_string(config.threads) + ")");
   if (auto e = checkSurface("contact", config.contact_mu, config.contact_restitution)) return e;
+  if (auto e = checkContactModel(config.contact_model)) return e;
   if (config.ground_plane) {
     const GroundPlane& g = *config.ground_plane;
     if (!std::isfinite(g.height))

@@ -221,8 +221,10 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
   SolverSettings settings;
   settings.h = h;
   settings.kick = model.scene.gravity_W.norm() * h;
+  settings.gravity_kick_W = model.scene.gravity_W * h;
   settings.rest_speed = 2.0 * settings.kick;
   settings.bounce_speed = 3.0 * model.scene.gravity_W.norm() * h;
+  settings.model = model.config.contact_model;
 
   // Landings: a body whose contacts are all gaps to the ground plane that close within the
   // step faster than the resting speed is stepped to the instant it lands and bounces there.
@@ -337,11 +339,11 @@ void solveAwake(const Model& model, Data& data, ContactScratch& S) {
     const Eigen::Vector3d& p = S.found[k].point_W;
     if (r.a >= 0) {
       S.impulse_W[r.a] += P;
-      S.impulse_moment_W[r.a] += (p - S.bodies[r.a].x).cross(P);
+      S.impulse_moment_W[r.a] += (p - S.bodies[r.a].x).cross(P) + r.couple;
     }
     if (r.b >= 0) {
       S.impulse_W[r.b] -= P;
-      S.impulse_moment_W[r.b] -= (p - S.bodies[r.b].x).cross(P);
+      S.impulse_moment_W[r.b] -= (p - S.bodies[r.b].x).cross(P) + r.couple;
     }
   }
   // The common normal of each slot's contacts (NaN: they differ, or one is an impact or a gap

@@ -32,6 +32,69 @@ struct GroundPlane {
   scene::SurfaceParameters surface;
 };
 
+/// Extensions of the contact model beyond Coulomb's law with one μ and Newton's restitution
+/// (doc/contact_model.md). Each is off at its default, and then the solve is the plain model's
+/// bit for bit.
+struct ContactModel {
+  /// Static against kinetic friction (Stribeck's curve): a contact slipping at speed v (its
+  /// tangential relative velocity before the step's impulses) has the friction coefficient
+  ///   μ(v) = μ (1 + (r − 1) exp(−(v / v_s)²)),
+  /// μ the surfaces' (kinetic) coefficient, r = static_friction_ratio = μ_s/μ_k ≥ 1 (1: off)
+  /// and v_s = stribeck_speed > 0 (m/s) the speed at which friction passes from static to
+  /// kinetic.
+  double static_friction_ratio = 1.0;
+  double stribeck_speed = 0.05;
+  /// Rolling and torsional resistance of a contact patch: a contact whose surfaces touch over a
+  /// patch rather than a point resists turning about the tangents (rolling, as a pressure
+  /// centre moving within the patch, up to its half-width) and about the normal (spinning) by a
+  /// couple of at most ρ λ_n, ρ the lever of the patch in m (0: off). Solved with the contact's
+  /// friction as MuJoCo's condim 6 rows (doc/contact_model.md).
+  double rolling_resistance = 0.0;
+  double torsional_resistance = 0.0;
+  /// Restitution that falls with the impact speed (Johnson's elastic-plastic impact: the
+  /// plastic work grows faster than the kinetic energy, e ∝ v^(−1/4) above the yield speed):
+  /// an impact at normal speed v bounces with
+  ///   e(v) = min(1, e (v_ref / v)^p),
+  /// e the surfaces' coefficient (its value at v_ref), p = restitution_speed_exponent ≥ 0
+  /// (0: off; 1/4 Johnson's) and v_ref = restitution_reference_speed > 0 (m/s).
+  double restitution_speed_exponent = 0.0;
+  double restitution_reference_speed = 1.0;
+  /// Rounded edges and corners of boxes against the ground plane: a real box's edges are not
+  /// sharp, and it touches the plane with the Minkowski sum of a box smaller by this radius r
+  /// (m) on every side and a ball of radius r (capped at half the box's smallest edge). A box
+  /// on an edge or a corner then sits lower and rolls over it; a face still lies flat
+  /// (0: sharp, off).
+  double box_edge_radius = 0.0;
+  /// Compliant contact (Hunt and Crossley's law): the surfaces give under load, and a contact
+  /// whose points overlap by δ > 0, approaching at δ̇, pushes with the force
+  ///   f_n = k δ (1 + d δ̇), never pulling (f_n ≥ 0),
+  /// k = normal_stiffness (N/m per contact point; 0: rigid, off) and d = normal_dissipation
+  /// (s/m; an impact at speed v keeps e ≈ 1 − (2/3) d v for small d v, doc/contact_model.md). Its
+  /// impulse h f_n over the step replaces the rigid contact's (no restitution, no position
+  /// correction: the overlap is the deformation); friction stays Coulomb's, within μ h f_n.
+  double normal_stiffness = 0.0;
+  double normal_dissipation = 0.0;
+  /// Tangential restitution at impacts (the tangential compliance of the surfaces, as in
+  /// Maw, Barber and Fawcett's and Walton's impact laws): a rigid contact that sticks in an
+  /// impact leaves with its slip reversed, u_t⁺ = −e_t u_t⁻, as far as the friction cone
+  /// allows; e_t = tangential_restitution in [0, 1] (0: the slip is stopped, off).
+  double tangential_restitution = 0.0;
+  /// Friction that depends on the contact pressure (polymers, Archard's elastic contact: the
+  /// real area grows as N^(2/3), so μ falls as the pressure rises): a face lying on a surface
+  /// (three or four coplanar corners between the same bodies) spreads its load over the face
+  /// and has the coefficient face_friction_ratio · μ, an edge or a corner, whose load sits on
+  /// a small rounded patch, keeps μ (1: off).
+  double face_friction_ratio = 1.0;
+
+  bool compliant() const { return normal_stiffness > 0.0; }
+  bool anyOn() const {
+    return static_friction_ratio != 1.0 || rolling_resistance != 0.0 ||
+           torsional_resistance != 0.0 || restitution_speed_exponent != 0.0 ||
+           box_edge_radius != 0.0 || compliant() || tangential_restitution != 0.0 ||
+           face_friction_ratio != 1.0;
+  }
+};
+
 struct WorldConfig {
   double dt = 0.001;  ///< s, > 0
   std::string integrator = "auto";
@@ -58,6 +121,8 @@ struct WorldConfig {
   /// scene/self_collision.h, doc/contacts.md#self-collision). Links of different robots and
   /// bodies always collide; a link and its parent never do.
   scene::SelfCollisionMode self_collision = scene::SelfCollisionMode::kAuto;
+  /// The contact model's extensions (doc/contact_model.md); all off by default.
+  ContactModel contact_model;
 
   /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
   /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all
