@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cga_rigid_sim/dynamics/derived.h"
+#include "contact_trees.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -29,6 +30,10 @@ void wakeIsland(const Model& model, Data& data, SleepState& S, int label) {
     MovingBodyData& b = data.bodies[i];
     if (b.contact_step == MovingBodyData::ContactStep::kDone)
       b.contact_step = MovingBodyData::ContactStep::kNone;
+    if (const int t = model.tree_of_moving[i]; t >= 0) {
+      data.trees[t].asleep = false;
+      data.trees[t].integrator->reset();
+    }
   }
   // Its contacts are detected again from now on (last step's, in data.contacts, warm-start
   // them).
@@ -40,11 +45,53 @@ void wakeIsland(const Model& model, Data& data, SleepState& S, int label) {
                    S.contacts.end());
 }
 
+// Whether sleeping tree link i's tree was changed from outside: a velocity (an impulse on a
+// link), efforts other than those it fell asleep under, timed efforts.
+bool treeChanged(const Model& model, const Data& data, int i) {
+  const int t = model.tree_of_moving[i];
+  if (t < 0) return false;
+  const TreeData& td = data.trees[t];
+  return !td.state.v.isZero(0.0) || !td.state.omega_0.rot.isZero(0.0) ||
+         !td.state.omega_0.trans.isZero(0.0) || !td.timed.empty() ||
+         td.held_effort != td.asleep_effort;
+}
+
+// The fastest point of tree link i within its own size, |v| + |ω| ℓ with ℓ twice its largest
+// radius of gyration (a link's reach about its centre of mass, roughly).
+double linkSpeed(const Model& model, const Data& data, int i) {
+  const dynamics::Inertia& I = model.moving[i].inertia;
+  const double reach = 2.0 * std::sqrt(I.principalMoments().maxCoeff() / I.mass());
+  const dynamics::BodyState& s = data.bodies[i].state;
+  return dynamics::comVelocity_W(s, model.lambda).norm() +
+         dynamics::angularVelocity_W(s).norm() * reach;
+}
+
+// Tree t falls asleep: at rest where it is, not stepped. Its kinetic energy is booked as
+// dissipated — from before its contact step's kick, which is dropped with its drift (the pose
+// does not move, so the loads did no work).
+void putTreeToSleep(const Model& model, Data& data, int t) {
+  TreeData& td = data.trees[t];
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  static thread_local dynamics::TreeKinematics kin;
+  dynamics::treeKinematics(tree, td.state, kin);
+  const double E_now = treeEnergy(model, t, kin);
+  const double T_now = dynamics::kineticEnergy(tree, kin);
+  data.dissipated_energy += td.contact_kicked ? td.contact_energy_start - (E_now - T_now) : T_now;
+  td.state.v.setZero();
+  td.state.omega_0 = cga::Bivelocity();
+  td.contact_kicked = false;
+  td.asleep = true;
+  td.asleep_effort = td.held_effort;
+  td.integrator->reset();
+  writeTreeBodies(model, data, t);
+}
+
 void reset(const Model& model, Data& data, SleepState& S) {
   const std::size_t n = data.bodies.size();
   for (std::size_t i = 0; i < S.asleep.size() && i < n; ++i)
     if (S.asleep[i] && data.bodies[i].contact_step == MovingBodyData::ContactStep::kDone)
       data.bodies[i].contact_step = MovingBodyData::ContactStep::kNone;
+  for (TreeData& td : data.trees) td.asleep = false;
   S.topology = model.topology_version;
   S.still.assign(n, 0);
   S.island.assign(n, -1);
@@ -77,7 +124,7 @@ void wakeChanged(const Model& model, Data& data, SleepState& S) {
                          b.loads.hasApplied() || b.loads_dirty ||
                          b.state.M_WB.rotation().coeffs() != S.rotation[i].coeffs() ||
                          b.state.M_WB.translation(lambda) != S.position[i];
-    if (changed) wakeIsland(model, data, S, S.island[i]);
+    if (changed || treeChanged(model, data, i)) wakeIsland(model, data, S, S.island[i]);
   }
   for (std::size_t i = 0; i < data.bodies.size(); ++i)
     if (S.asleep[i]) data.bodies[i].contact_step = MovingBodyData::ContactStep::kDone;
@@ -116,9 +163,14 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
     for (const int i : {a, b}) {
       if (i < 0 || S.asleep[i] || S.speed[i] >= kSleepSpeed) continue;  // known to move
       const MovingBodyData& body = data.bodies[i];
-      // Links move with their trees; a landing body is mid-flight within the step.
-      if (model.tree_of_moving[i] >= 0 || body.contact_step == MovingBodyData::ContactStep::kDone) {
+      // A landing body is mid-flight within the step.
+      if (body.contact_step == MovingBodyData::ContactStep::kDone) {
         S.blocked[i] = 1;
+        continue;
+      }
+      // A link moves with its tree: its speed is the tree's (below).
+      if (model.tree_of_moving[i] >= 0) {
+        S.speed[i] = std::max(S.speed[i], 0.0);
         continue;
       }
       // Not the contact point's own velocity (a rolling ball's is zero): the body's fastest
@@ -129,6 +181,26 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
       S.speed[i] = std::max(S.speed[i], v);
     }
     if (a >= 0 && b >= 0) S.parent[find(S.parent, a)] = find(S.parent, b);
+  }
+  // A tree with a link in contact: every link joins its island, and its speed is the tree's
+  // fastest link's (a swinging arm keeps a robot awake whose feet rest). Timed efforts keep it
+  // awake: they end by themselves.
+  for (std::size_t t = 0; t < model.trees.size(); ++t) {
+    const TreeModel& tm = model.trees[t];
+    int in_contact = -1;
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount() && in_contact < 0; ++b)
+      if (S.speed[tm.movingOf(b)] >= 0 && !S.asleep[tm.movingOf(b)]) in_contact = tm.movingOf(b);
+    if (in_contact < 0) continue;
+    double speed = 0.0;
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b)
+      speed = std::max(speed, linkSpeed(model, data, tm.movingOf(b)));
+    const bool blocked = !data.trees[t].timed.empty();
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+      const int i = tm.movingOf(b);
+      S.speed[i] = speed;
+      S.blocked[i] = S.blocked[i] || blocked;
+      S.parent[find(S.parent, i)] = find(S.parent, in_contact);
+    }
   }
   // Still steps in a row; an island is blocked by any member that is not still long enough.
   S.counting = false;
@@ -148,10 +220,14 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
     // energy book had it drift by h v + shift and keep its kinetic energy: both go to the
     // dissipated energy instead, so the book still balances.
     MovingBodyData& b = data.bodies[i];
-    const dynamics::Inertia& I = model.moving[i].inertia;
-    const Eigen::Vector3d v = dynamics::comVelocity_W(b.state, lambda);
-    data.dissipated_energy +=
-        I.kineticEnergy(b.state.omega_B, lambda) - I.mass() * g.dot(h * v + b.contact_shift_W);
+    if (const int t = model.tree_of_moving[i]; t >= 0) {  // its tree sleeps as a whole
+      if (!data.trees[t].asleep) putTreeToSleep(model, data, t);
+    } else {
+      const dynamics::Inertia& I = model.moving[i].inertia;
+      const Eigen::Vector3d v = dynamics::comVelocity_W(b.state, lambda);
+      data.dissipated_energy +=
+          I.kineticEnergy(b.state.omega_B, lambda) - I.mass() * g.dot(h * v + b.contact_shift_W);
+    }
     b.state.omega_B = cga::Bivelocity();
     b.contact_shift_W.setZero();
     b.contact_step = MovingBodyData::ContactStep::kDone;

@@ -708,7 +708,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       });
     }
     int it = 0;
-    for (; it < st.max_iterations; ++it) {
+    const int max_iterations = I.trees > 0 ? st.max_tree_iterations : st.max_iterations;
+    for (; it < max_iterations; ++it) {
       bodiesOf([&](int s) { work.vel_sweep[s] = work.vel[s]; });
       treesOf([](SolverTree& t) { t.nu_sweep = t.nu; });
       for (int q = I.first_group; q < I.first_group + I.groups; ++q) {

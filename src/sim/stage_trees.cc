@@ -305,6 +305,7 @@ void integrateTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
+    if (td.asleep) continue;  // at rest with its island (doc/contacts.md#sleeping)
     // The contacts stage changed only velocities: this is the pose before the step. (Copies
     // between vectors of the same size: no allocation.)
     td.q_before = td.state.q;

@@ -124,6 +124,11 @@ struct TreeData {
   /// Its scale, kg m/s: the links' momenta, the loads' and contacts' impulses (the guard's
   /// tolerance is relative to it).
   double contact_momentum_scale = 0.0;
+  /// Asleep with its contact island (doc/contacts.md#sleeping): at rest, not stepped, until
+  /// something wakes the island; `asleep_effort` holds the efforts it fell asleep under (a new
+  /// command wakes it).
+  bool asleep = false;
+  Eigen::VectorXd asleep_effort;
   /// The state before this step (joint positions and rates, the floating root's motor and
   /// bivelocity), for undoing a step that breaks an invariant (TreeFaults).
   Eigen::VectorXd q_before, v_before;
