@@ -143,6 +143,10 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   S.state = td.state;
   dynamics::setVelocityVector(tree, out.nu, S.state);
   dynamics::treeKinematics(tree, S.state, kicked);
+  // The kick's work: what it adds to the kinetic energy, to the bit for a constant effort
+  // (½ m (v'² − v²) = h F (v + v')/2), against which the energy guard measures the contacts.
+  td.contact_kick_work =
+      0.5 * h * (td.contact_power_start + treeInputPower(model, data, t, kicked, S.state.v));
 }
 
 void takeTreeImpulses(const SolverTree& solved, TreeData& td,

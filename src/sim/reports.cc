@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "cga_rigid_sim/dynamics/derived.h"
+#include "cga_rigid_sim/format.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -198,6 +199,55 @@ std::string worldSummary(const Model& model, const Data& data) {
   for (const auto& kv : count) os << " " << kv.first << " x" << kv.second;
   os << "\n";
   return os.str();
+}
+
+Error treeFaultError(const Model& m, const TreeFaults& f) {
+  const std::vector<TreeModel>& trees = m.trees;
+  const bool known = f.tree < static_cast<int>(trees.size());
+  const std::string who = known ? "tree '" + trees[f.tree].name + "'"
+                                : "a tree";  // (trees are not removed; a guard all the same)
+  const auto bodyName = [&m](int j) {
+    return j < 0                                         ? std::string("the ground plane")
+           : j < static_cast<int>(m.scene.bodies.size()) ? "'" + m.scene.bodies[j].name + "'"
+                                                         : std::string("a body");
+  };
+  const std::string pair = f.body_a >= 0 ? " (its deepest contact: " + bodyName(f.body_a) +
+                                               " against " + bodyName(f.body_b) + ")"
+                                         : "";
+  std::string what;
+  switch (f.rule) {
+    case TreeFaults::Rule::kNotFinite:
+      what =
+          "left a non-finite state (its mass matrix cannot be resolved in double precision: "
+          "links implausibly far from their joints or too light for their offsets)";
+      break;
+    case TreeFaults::Rule::kNotSolved:
+      what = "could not be solved: the implicit step did not converge within its attempts";
+      break;
+    case TreeFaults::Rule::kLimit: {
+      const std::string joint =
+          known && f.joint >= 0 && f.joint < static_cast<int>(trees[f.tree].scene_joint.size())
+              ? "joint '" + m.scene.joints[trees[f.tree].scene_joint[f.joint]].name + "'"
+              : "a joint";
+      what = "left " + joint + " at " + formatNumber(f.value, 10) + ", past its limit " +
+             formatNumber(f.bound, 10) + " (rule: no joint passes its limits)";
+      break;
+    }
+    case TreeFaults::Rule::kEnergy:
+      what = "raised the tree's energy by " + formatNumber(f.value, 6) +
+             " J beyond the work of gravity and its inputs (tolerance " + formatNumber(f.bound, 6) +
+             " J; rule: contacts never create energy)" + pair;
+      break;
+    case TreeFaults::Rule::kMomentum:
+      what = "changed the floating tree's momentum by " + formatNumber(f.value, 6) +
+             " beyond gravity, its inputs and its contacts with other bodies (tolerance " +
+             formatNumber(f.bound, 6) + "; rule: its contacts with itself cancel)" + pair;
+      break;
+  }
+  return Error("step", "tree",
+               who + ": step " + std::to_string(f.step) + " " + what +
+                   "; it was undone and the tree is at rest at its pose before the step "
+                   "(doc/articulated.md#faults)");
 }
 
 }  // namespace sim

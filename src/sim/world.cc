@@ -4,8 +4,6 @@
 // state_edit.cc (set state, reset), topology.cc (spawn, delete), reports.cc.
 #include "cga_rigid_sim/sim/world.h"
 
-#include "cga_rigid_sim/format.h"
-
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/stages.h"
@@ -15,8 +13,8 @@
 #include "contact_scratch.h"
 #include "curved_bodies.h"
 #include "input_admission.h"
-#include "self_collision_rules.h"
 #include "joint_efforts.h"
+#include "self_collision_rules.h"
 #include "state_edit.h"
 #include "topology.h"
 #include "wrench_schedule.h"
@@ -159,53 +157,7 @@ std::uint64_t World::treeFaultCount() const { return impl_->data.tree_faults.cou
 std::optional<Error> World::lastTreeFault() const {
   const TreeFaults& f = impl_->data.tree_faults;
   if (f.count == 0) return std::nullopt;
-  const Model& m = impl_->model;
-  const std::vector<TreeModel>& trees = m.trees;
-  const bool known = f.tree < static_cast<int>(trees.size());
-  const std::string who = known ? "tree '" + trees[f.tree].name + "'"
-                                : "a tree";  // (trees are not removed; a guard all the same)
-  const auto bodyName = [&m](int j) {
-    return j < 0 ? std::string("the ground plane")
-                 : j < static_cast<int>(m.scene.bodies.size()) ? "'" + m.scene.bodies[j].name + "'"
-                                                               : std::string("a body");
-  };
-  const std::string pair =
-      f.body_a >= 0 ? " (its deepest contact: " + bodyName(f.body_a) + " against " +
-                          bodyName(f.body_b) + ")"
-                    : "";
-  std::string what;
-  switch (f.rule) {
-    case TreeFaults::Rule::kNotFinite:
-      what = "left a non-finite state (its mass matrix cannot be resolved in double precision: "
-             "links implausibly far from their joints or too light for their offsets)";
-      break;
-    case TreeFaults::Rule::kNotSolved:
-      what = "could not be solved: the implicit step did not converge within its attempts";
-      break;
-    case TreeFaults::Rule::kLimit: {
-      const std::string joint =
-          known && f.joint >= 0 && f.joint < static_cast<int>(trees[f.tree].scene_joint.size())
-              ? "joint '" + m.scene.joints[trees[f.tree].scene_joint[f.joint]].name + "'"
-              : "a joint";
-      what = "left " + joint + " at " + formatNumber(f.value, 10) + ", past its limit " +
-             formatNumber(f.bound, 10) + " (rule: no joint passes its limits)";
-      break;
-    }
-    case TreeFaults::Rule::kEnergy:
-      what = "raised the tree's energy by " + formatNumber(f.value, 6) +
-             " J beyond the work of gravity and its inputs (tolerance " +
-             formatNumber(f.bound, 6) + " J; rule: contacts never create energy)" + pair;
-      break;
-    case TreeFaults::Rule::kMomentum:
-      what = "changed the floating tree's momentum by " + formatNumber(f.value, 6) +
-             " beyond gravity, its inputs and its contacts with other bodies (tolerance " +
-             formatNumber(f.bound, 6) + "; rule: its contacts with itself cancel)" + pair;
-      break;
-  }
-  return Error("step", "tree",
-               who + ": step " + std::to_string(f.step) + " " + what +
-                   "; it was undone and the tree is at rest at its pose before the step "
-                   "(doc/articulated.md#faults)");
+  return treeFaultError(impl_->model, f);
 }
 
 Result<bool> World::setJointEfforts(const JointEffortInput& in) {

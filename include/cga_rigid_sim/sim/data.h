@@ -110,6 +110,9 @@ struct TreeData {
   Eigen::VectorXd contact_shift;      ///< the position correction's pseudo-velocity pν
   double contact_energy_start = 0.0;  ///< J, kinetic + potential before the kick
   double contact_power_start = 0.0;   ///< W, of the inputs before the kick
+  /// J, the inputs' work as the kick added it to the kinetic energy (the energy guard's), and
+  /// trapezoidal over the step (the book's: none while a contact holds an effort)
+  double contact_kick_work = 0.0, contact_book_work = 0.0;
   /// J: the work the impulses of contacts with other moving bodies did on the tree, P·ū with ū
   /// the mean of its contact point's velocities before and after them: energy handed over, not
   /// created (the energy guard allows it).
@@ -153,9 +156,9 @@ struct TreeFaults {
   int tree = -1;           ///< the last one's tree (the Model's index: trees are never removed)
   std::uint64_t step = 0;  ///< the step it happened in (1 = the first step)
   Rule rule = Rule::kNotFinite;
-  int joint = -1;       ///< kLimit: the joint's index in the tree
-  double value = 0.0;   ///< kLimit: its position; kEnergy: the rise, J; kMomentum: the error
-  double bound = 0.0;   ///< kLimit: the limit; kEnergy, kMomentum: the tolerance
+  int joint = -1;      ///< kLimit: the joint's index in the tree
+  double value = 0.0;  ///< kLimit: its position; kEnergy: the rise, J; kMomentum: the error
+  double bound = 0.0;  ///< kLimit: the limit; kEnergy, kMomentum: the tolerance
   int body_a = -1, body_b = -1;  ///< kEnergy, kMomentum: the deepest contact's bodies (b: −1 plane)
 };
 

@@ -104,6 +104,10 @@ std::vector<FramePose> staticFrames(const Model& model);
 std::vector<ContactReport> contactReports(const Model& model, const Data& data);
 /// The integrator path per body, first 20 listed, counts per path.
 std::string worldSummary(const Model& model, const Data& data);
+/// The last tree fault (Data::tree_faults) as an error naming the tree, the joint or the pair of
+/// its deepest contact, and the rule: "step.tree: tree 'base': step 12 left joint 'j2' at 2.1,
+/// past its limit 2 (rule: no joint passes its limits); it was undone …".
+Error treeFaultError(const Model& model, const TreeFaults& fault);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim
