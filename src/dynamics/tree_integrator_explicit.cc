@@ -3,7 +3,9 @@
 // MidpointResidual::accelerations (CRBA, RNEA bias, Cholesky on scalar frames), else ABA.
 // Damping and friction enter as explicit forces (friction −F sign q̇, so it chatters about zero:
 // a baseline); limits by projection after the step (position clamped, the rate into the limit
-// removed).
+// removed). With mimic joints the accelerations are those the constraints allow
+// (forwardDynamics), so every stage moves the followers with their leaders; after the step the
+// limits are projected on the independent coordinates and the followers set from their leaders.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -92,24 +94,25 @@ class Explicit final : public TreeIntegrator {
     setVelocityVector(tree, nu_, state);
     if (tree.floating()) state.M_W0 = state.M_W0.normalized();
     compensated_ = true;
-    for (int k = 0; k < tree.jointCount(); ++k) {  // limits by projection
-      const TreeJoint& j = tree.joints()[k];
-      if (state.q[k] < j.lower) {
-        state.q[k] = j.lower;
+    for (const JointCoordinate& c : tree.coordinates()) {  // limits by projection
+      const int k = c.joint;
+      if (state.q[k] < c.lower) {
+        state.q[k] = c.lower;
         state.v[k] = std::max(0.0, state.v[k]);
         compensated_ = false;
-      } else if (state.q[k] > j.upper) {
-        state.q[k] = j.upper;
+      } else if (state.q[k] > c.upper) {
+        state.q[k] = c.upper;
         state.v[k] = std::min(0.0, state.v[k]);
         compensated_ = false;
       }
     }
+    applyMimic(tree, state);  // followers exactly where their leaders put them
     last_q_ = state.q;
     setVelocity(tree, state, last_nu_);
     // The new state's kinematics, for the World to write the links' states from: from the
     // fused path's frames for less than treeKinematics, when it applies.
     if (!state.allFinite()) return;
-    if (MidpointResidual::applies(tree, loads)) {
+    if (fused(tree, loads)) {
       stage_dynamics_.endPose(state.q, end_kin_);
       stage_dynamics_.velocities(state.v, end_kin_);
     } else {
@@ -149,7 +152,11 @@ class Explicit final : public TreeIntegrator {
   }
 
   // A fixed base under gravity alone (the common case) takes MidpointResidual's stage (frames
-  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics.
+  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics, and a tree
+  // with mimic joints forwardDynamics' constrained accelerations.
+  static bool fused(const ArticulatedBody& tree, const TreeLoads& loads) {
+    return MidpointResidual::applies(tree, loads) && !tree.hasMimic();
+  }
   void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
                     Eigen::VectorXd& out) {
     Eigen::VectorXd& tau = tau_;
@@ -159,7 +166,7 @@ class Explicit final : public TreeIntegrator {
       tau[k] -= j.damping * s.v[k];
       if (s.v[k] != 0.0) tau[k] -= (s.v[k] > 0 ? j.friction : -j.friction);
     }
-    if (MidpointResidual::applies(tree, loads)) {
+    if (fused(tree, loads)) {
       stage_dynamics_.prepare(tree);
       stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
       if (general_sized_) return;
