@@ -25,6 +25,7 @@ export PATH="/usr/bin:$PATH"
 # Common to both platforms.
 packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-yaml
           libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest
+          libassimp-dev  # collision meshes in Collada and the other formats robot packages ship
           # seeing a run (README "Seeing the simulation"): plots from a bag, rviz under a virtual
           # X server with mesa's software GL, and a screenshot of it
           python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick)
