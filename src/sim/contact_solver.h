@@ -65,6 +65,10 @@ struct SolverTree {
   Eigen::Matrix<double, 6, Eigen::Dynamic> twist;  ///< per coordinate: (ω; v_o), world
   std::vector<int> parent;                         ///< per tree body: its parent (−1 for body 0)
   bool floating = false;                           ///< the base's 6 coordinates come first
+  /// Per joint: the column of ν its rate is (a mimic joint: its leader's) and its multiplier
+  /// (1 for an independent joint): ν, M and the solver are on the independent coordinates.
+  std::vector<int> column;
+  std::vector<double> multiplier;
 };
 
 /// One contact in the solver: its bodies' slots (−1: immovable or a tree side), lever arms,

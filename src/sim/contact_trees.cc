@@ -21,6 +21,7 @@ struct Scratch {
   dynamics::TreeState state;
   dynamics::BodyMoments f;
   Eigen::VectorXd nu_dot;
+  Eigen::MatrixXd M_r;
 };
 Scratch& scratch() {
   static thread_local Scratch s;
@@ -82,7 +83,21 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu += h * S.nu_dot;
 
   dynamics::massMatrix(tree, S.kin, out.M);
+  // With mimic joints the solver works on the independent coordinates ν_r: M_r = Gᵀ M G, and
+  // each joint's twist goes into its coordinate's column with its multiplier (pointJacobian).
+  if (tree.hasMimic()) {
+    dynamics::reduceVelocity(tree, out.nu, S.nu_dot);
+    out.nu = S.nu_dot;
+    dynamics::reduceMatrix(tree, out.M, S.M_r);
+    out.M = S.M_r;
+  }
   out.llt.compute(out.M);
+  out.column.resize(tree.jointCount());
+  out.multiplier.resize(tree.jointCount());
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    out.column[k] = tree.reducedIndex(k);
+    out.multiplier[k] = tree.mimicMultiplier(k);
+  }
   const int n = tree.velocityCount();
   out.twist.resize(6, n);
   out.floating = tree.floating();
@@ -103,14 +118,18 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
 
   S.state = td.state;
-  dynamics::setVelocityVector(tree, out.nu, S.state);
+  dynamics::expandVelocity(tree, out.nu, S.nu_dot);
+  dynamics::setVelocityVector(tree, S.nu_dot, S.state);
   dynamics::treeKinematics(tree, S.state, kicked);
 }
 
 void takeTreeImpulses(const SolverTree& solved, TreeData& td,
                       const dynamics::ArticulatedBody& tree) {
-  dynamics::setVelocityVector(tree, solved.nu, td.state);
-  td.contact_shift = solved.pnu;
+  // (ν and pν on the independent coordinates: every joint's from them.)
+  Scratch& S = scratch();
+  dynamics::expandVelocity(tree, solved.nu, S.nu_dot);
+  dynamics::setVelocityVector(tree, S.nu_dot, td.state);
+  dynamics::expandVelocity(tree, solved.pnu, td.contact_shift);
   td.contact_kicked = true;
   td.integrator->reset();
 }
