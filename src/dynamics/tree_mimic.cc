@@ -7,11 +7,18 @@
 namespace cga_rigid_sim {
 namespace dynamics {
 
+namespace {
+// Without mimic joints G = 1: every map is a copy (true: done).
+template <typename In, typename Out>
+bool copiedWithoutMimic(const ArticulatedBody& tree, const In& in, Out& out) {
+  if (tree.hasMimic()) return false;
+  out = in;
+  return true;
+}
+}  // namespace
+
 void expandVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu_r, Eigen::VectorXd& nu) {
-  if (!tree.hasMimic()) {
-    nu = nu_r;
-    return;
-  }
+  if (copiedWithoutMimic(tree, nu_r, nu)) return;
   const int base = tree.floating() ? 6 : 0;
   nu.resize(tree.velocityCount());
   nu.head(base) = nu_r.head(base);
@@ -20,10 +27,7 @@ void expandVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu_r, Ei
 }
 
 void reduceVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu, Eigen::VectorXd& nu_r) {
-  if (!tree.hasMimic()) {
-    nu_r = nu;
-    return;
-  }
+  if (copiedWithoutMimic(tree, nu, nu_r)) return;
   const int base = tree.floating() ? 6 : 0;
   nu_r.resize(tree.reducedCount());
   nu_r.head(base) = nu.head(base);
@@ -33,10 +37,7 @@ void reduceVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu, Eige
 }
 
 void reduceForce(const ArticulatedBody& tree, const Eigen::VectorXd& f, Eigen::VectorXd& f_r) {
-  if (!tree.hasMimic()) {
-    f_r = f;
-    return;
-  }
+  if (copiedWithoutMimic(tree, f, f_r)) return;
   const int base = tree.floating() ? 6 : 0;
   f_r.resize(tree.reducedCount());
   f_r.head(base) = f.head(base);
@@ -45,10 +46,7 @@ void reduceForce(const ArticulatedBody& tree, const Eigen::VectorXd& f, Eigen::V
 
 void reduceJointForce(const ArticulatedBody& tree, Eigen::Ref<const Eigen::VectorXd> f,
                       Eigen::Ref<Eigen::VectorXd> f_r) {
-  if (!tree.hasMimic()) {
-    f_r = f;
-    return;
-  }
+  if (copiedWithoutMimic(tree, f, f_r)) return;
   const int base = tree.floating() ? 6 : 0;
   f_r.setZero();
   for (int k = 0; k < tree.jointCount(); ++k)
@@ -56,10 +54,7 @@ void reduceJointForce(const ArticulatedBody& tree, Eigen::Ref<const Eigen::Vecto
 }
 
 void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r) {
-  if (!tree.hasMimic()) {
-    M_r = M;
-    return;
-  }
+  if (copiedWithoutMimic(tree, M, M_r)) return;
   // Gᵀ M G by rows, then by columns: each full index adds its multiple into its reduced one.
   const int base = tree.floating() ? 6 : 0, nv = tree.velocityCount(), nr = tree.reducedCount();
   const auto reducedOf = [&](int i) { return i < base ? i : tree.reducedIndex(i - base); };

@@ -13,17 +13,16 @@
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "common/random_trees.h"
+#include "common/tree_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace {
 
+const char* const kIntegrators[] = {"auto", "cga2", "cga4", "rk4", "euler"};
+constexpr double kLambda = 1.0, kG = 9.81;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-
-constexpr double kLambda = 1.0;
-constexpr double kG = 9.81;
-const char* const kIntegrators[] = {"auto", "cga2", "cga4", "rk4", "euler"};
 
 // A rod of mass m and length ℓ hinged at one end about y at `pivot`, hanging along −z.
 TreeJoint rod(const Vector3d& pivot, double m, double l) {
@@ -71,19 +70,8 @@ TreeState pairState(const ArticulatedBody& tree, double q, double v) {
   return s;
 }
 
-std::unique_ptr<TreeIntegrator> make(const std::string& name) {
-  return std::move(makeTreeIntegrator(name).value());
-}
-
-// Kinetic plus potential energy.
-double energy(const ArticulatedBody& tree, const TreeState& s, const Vector3d& g) {
-  TreeKinematics kin;
-  treeKinematics(tree, s, kin);
-  double V = 0.0;
-  for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
-    V -= tree.inertiaOf(b).mass() * g.dot(kin.M_W[b].translation(kLambda));
-  return kineticEnergy(tree, kin) + V;
-}
+const auto make = testing::treeIntegrator;
+const auto energy = testing::treeEnergy;
 
 // |q_f − (m q_l + o)| and |q̇_f − m q̇_l| over every follower, in units of the rounding of
 // m q_l + o (one ulp of the larger of |m q_l| and |o|, at least the smallest normal number).
@@ -284,18 +272,25 @@ TEST(MimicJoints, FloatingTreeWithMimicPanelsConservesMomentumInZeroGravity) {
   }
 }
 
-// A constant effort on the follower alone, no gravity, discs on separate axes: the leader turns
-// at q̈ = m τ_f / I_eff, q = ½ q̈ t². The midpoint is exact for constant acceleration (round-off);
-// rk4 too (q is a polynomial of degree 2).
-TEST(MimicJoints, AnEffortOnTheFollowerMovesTheLeaderThroughTheMultiplier) {
+// Two discs about parallel z axes 1 m apart, no gravity torque: the leader (J_z 0.2) and a
+// follower (J_z 0.03) turned by `multiplier`.
+ArticulatedBody discPair(double multiplier, double follower_damping = 0.0) {
   TreeJoint a, b;
   a.axis = b.axis = Vector3d::UnitZ();
   b.M_PJ = cga::Motor::translator({1, 0, 0}, kLambda);
   a.inertia = Inertia::fromPrincipal("a", 2.0, {0.1, 0.1, 0.2}).value();
   b.inertia = Inertia::fromPrincipal("b", 1.0, {0.02, 0.02, 0.03}).value();
   b.mimic = 0;
-  b.mimic_multiplier = 3.0;
-  const ArticulatedBody tree(std::nullopt, {a, b}, kLambda);
+  b.mimic_multiplier = multiplier;
+  b.damping = follower_damping;
+  return ArticulatedBody(std::nullopt, {a, b}, kLambda);
+}
+
+// A constant effort on the follower alone, no gravity, discs on separate axes: the leader turns
+// at q̈ = m τ_f / I_eff, q = ½ q̈ t². The midpoint is exact for constant acceleration (round-off);
+// rk4 too (q is a polynomial of degree 2).
+TEST(MimicJoints, AnEffortOnTheFollowerMovesTheLeaderThroughTheMultiplier) {
+  const ArticulatedBody tree = discPair(3.0);
   const double I_eff = 0.2 + 9 * 0.03, tau_f = 0.5, acc = 3.0 * tau_f / I_eff;
   for (const char* name : {"cga2", "cga4", "rk4"}) {
     auto integ = make(name);
@@ -312,15 +307,7 @@ TEST(MimicJoints, AnEffortOnTheFollowerMovesTheLeaderThroughTheMultiplier) {
 // The follower's damping c_f acts on the leader's coordinate as m² c_f: with no other load the
 // midpoint multiplies the rate by (1 − x)/(1 + x) per step, x = m² c_f h / (2 I_eff).
 TEST(MimicJoints, DampingOfTheFollowerActsThroughTheSquaredMultiplier) {
-  TreeJoint a, b;
-  a.axis = b.axis = Vector3d::UnitZ();
-  b.M_PJ = cga::Motor::translator({1, 0, 0}, kLambda);
-  a.inertia = Inertia::fromPrincipal("a", 2.0, {0.1, 0.1, 0.2}).value();
-  b.inertia = Inertia::fromPrincipal("b", 1.0, {0.02, 0.02, 0.03}).value();
-  b.mimic = 0;
-  b.mimic_multiplier = -2.0;
-  b.damping = 0.01;
-  const ArticulatedBody tree(std::nullopt, {a, b}, kLambda);
+  const ArticulatedBody tree = discPair(-2.0, 0.01);
   const double I_eff = 0.2 + 4 * 0.03, h = 1e-3, x = 4 * 0.01 * h / (2 * I_eff);
   auto integ = make("cga2");
   TreeState s = pairState(tree, 0.0, 3.0);

@@ -21,17 +21,19 @@ namespace fs = std::filesystem;
 const fs::path kRobots = fs::path(CGA_RIGID_SIM_SOURCE_DIR) / "test/scene/robots";
 constexpr double kG = 9.81;
 
-std::unique_ptr<World> load(const std::string& file_or_xml, WorldConfig config = {},
-                            bool is_file = true) {
-  scene::SceneOptions options;
-  auto scene = is_file ? scene::loadUrdfFile(file_or_xml, options)
-                       : scene::loadUrdfString(file_or_xml, "test", options);
-  EXPECT_TRUE(scene.ok()) << scene.error();
-  if (!scene.ok()) return nullptr;
-  auto world = World::create(std::move(scene.value()), config);
-  EXPECT_TRUE(world.ok()) << world.error();
-  if (!world.ok()) return nullptr;
-  return std::move(world.value());
+// The World of a loaded scene (null, with the failure reported, if either step fails).
+std::unique_ptr<World> worldOf(Result<scene::Scene> scene, const WorldConfig& config) {
+  if (!scene.ok()) {
+    ADD_FAILURE() << scene.error();
+    return nullptr;
+  }
+  auto world = World::create(std::move(*scene), config);
+  if (!world.ok()) ADD_FAILURE() << world.error();
+  return world.ok() ? std::move(*world) : nullptr;
+}
+
+std::unique_ptr<World> load(const std::string& file, const WorldConfig& config = {}) {
+  return worldOf(scene::loadUrdfFile(file, scene::SceneOptions()), config);
 }
 
 std::map<std::string, JointStateReport> joints(const World& w) {
@@ -135,7 +137,7 @@ TEST(MimicWorld, AFollowerInContactKeepsTheConstraintAndTheEnergyBook) {
       "offset='0.4'/></joint></robot>";
   WorldConfig config;
   config.ground_plane = GroundPlane{};
-  auto w = load(urdf, config, false);
+  auto w = worldOf(scene::loadUrdfString(urdf, "test", scene::SceneOptions()), config);
   ASSERT_TRUE(w);
   const auto first = w->momentum().back();
   const double E0 = first.kinetic_energy + first.potential_energy;
