@@ -26,6 +26,7 @@ export PATH="/usr/bin:$PATH"
 packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-yaml
           libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest
           libqhull-dev  # convex hulls of collision meshes (src/scene/convex_hull.cc)
+          libassimp-dev  # collision meshes in Collada and the other formats robot packages ship
           # seeing a run (README "Seeing the simulation"): plots from a bag, rviz under a virtual
           # X server with mesa's software GL, and a screenshot of it
           python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick
@@ -64,7 +65,8 @@ else
     libsensor-msgs-dev python3-sensor-msgs ros-sensor-msgs
     ros-robot-state-publisher  # test/ros/robot_state_publisher.test
     libvisualization-msgs-dev python3-visualization-msgs rviz  # rviz.test reads ~markers in Python
-    libfcl-dev)  # FCL 0.7: collision detection for contacts
+    libfcl-dev  # FCL 0.7: collision detection for contacts
+    dart-doc)  # published robot descriptions the loader's tests read (test/scene/published_robots_test.cc)
 fi
 
 # The fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the ASan/UBSan/LSan runtimes. The

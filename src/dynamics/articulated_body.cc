@@ -1,6 +1,7 @@
 // ArticulatedBody: the tree's constants and its forward kinematics (doc/articulated.md).
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tree_math.h"
@@ -19,6 +20,30 @@ ArticulatedBody::ArticulatedBody(std::optional<Inertia> base_inertia, std::vecto
     S_J_.push_back(S);
     s_C_.push_back(j.M_JC.reverse().apply(S));
     M_PC_.push_back(j.M_PJ * j.M_JC);
+  }
+  // The independent coordinates (doc/articulated.md#mimic-joints): one per joint that follows
+  // none, carrying what its followers impose (their limits mapped to it, friction and damping
+  // weighted by the multiplier: the same power).
+  const int n = jointCount();
+  coordinate_of_.assign(n, -1);
+  for (int k = 0; k < n; ++k) {
+    const TreeJoint& j = joints_[k];
+    if (j.mimic >= 0) continue;
+    coordinate_of_[k] = static_cast<int>(coordinates_.size());
+    coordinates_.push_back({k, j.lower, j.upper, j.friction, j.damping});
+  }
+  for (int k = 0; k < n; ++k) {
+    const TreeJoint& j = joints_[k];
+    if (j.mimic < 0) continue;
+    has_mimic_ = true;
+    const int c = coordinate_of_[k] = coordinate_of_[j.mimic];
+    JointCoordinate& x = coordinates_[c];
+    const double m = j.mimic_multiplier, o = j.mimic_offset;
+    x.friction += std::abs(m) * j.friction;
+    x.damping += m * m * j.damping;
+    const auto [lo, hi] = leaderLimits(j.lower, j.upper, m, o);
+    x.lower = std::max(x.lower, lo);
+    x.upper = std::min(x.upper, hi);
   }
 }
 

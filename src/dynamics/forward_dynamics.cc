@@ -29,9 +29,36 @@ struct AbaScratch {
 };
 }  // namespace
 
+namespace {
+// With mimic joints the motion stays in ν = G ν_r (articulated_body.h): ν̇ = G M_r⁻¹ Gᵀ (τ − b)
+// with M_r = Gᵀ M G (CRBA) and b the RNEA's forces at ν̇ = 0 (velocity terms, gravity, loads):
+// d'Alembert's principle on the constrained motions. O(n²) for M and O(n_r³) for its factor,
+// where ABA is O(n) — ABA's recursion has no room for a constraint between two branches.
+void mimicForwardDynamics(const ArticulatedBody& tree, const TreeState& state,
+                          const TreeKinematics& kin, const Eigen::VectorXd& tau,
+                          const BodyMoments& f_ext, Eigen::VectorXd& nu_dot) {
+  struct Scratch {
+    Eigen::VectorXd zero, Q, Q_r;
+    Eigen::MatrixXd M, M_r;
+    tree_math::Cholesky llt;
+  };
+  static thread_local Scratch S;
+  S.zero.setZero(tree.velocityCount());
+  S.Q = -inverseDynamics(tree, state, kin, S.zero, f_ext);
+  S.Q.tail(tree.jointCount()) += tau;
+  massMatrix(tree, kin, S.M);
+  reduceForce(tree, S.Q, S.Q_r);
+  reduceMatrix(tree, S.M, S.M_r);
+  S.llt.compute(S.M_r);
+  S.llt.solveInPlace(S.Q_r);
+  expandVelocity(tree, S.Q_r, nu_dot);
+}
+}  // namespace
+
 void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
                      const Eigen::VectorXd& tau, const BodyMoments& f_ext,
                      Eigen::VectorXd& nu_dot) {
+  if (tree.hasMimic()) return mimicForwardDynamics(tree, state, kin, tau, f_ext, nu_dot);
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
   static thread_local AbaScratch scratch;

@@ -21,11 +21,11 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
   if (&tree != tree_) {  // the joints with friction or limits, once per tree
     tree_ = &tree;
     watched_.clear();
-    for (int k = 0; k < tree.jointCount(); ++k) {
-      const TreeJoint& j = tree.joints()[k];
-      if (j.friction > 0 || j.hasLimits())
-        watched_.push_back({k, tree.velocityIndex(k), j.lower, j.upper, j.friction});
-    }
+    // Per independent coordinate (a joint's own without mimic joints; with them, the limits
+    // and friction of the joints that follow it mapped onto their leader's).
+    for (const JointCoordinate& c : tree.coordinates())
+      if (c.friction > 0 || c.hasLimits())
+        watched_.push_back({c.joint, tree.reducedIndex(c.joint), c.lower, c.upper, c.friction});
   }
   for (const Watched& j : watched_) {
     const int k = j.joint, i = j.index;
@@ -76,10 +76,9 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
 }
 
 void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const {
-  for (int k = 0; k < tree.jointCount(); ++k) {
-    const TreeJoint& j = tree.joints()[k];
-    if (j.hasLimits()) q[k] = std::clamp(q[k], j.lower, j.upper);
-  }
+  for (const JointCoordinate& c : tree.coordinates())
+    if (c.hasLimits()) q[c.joint] = std::clamp(q[c.joint], c.lower, c.upper);
+  applyMimicPositions(tree, q);
 }
 
 void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu) {

@@ -8,6 +8,9 @@
 // Joints a limit or friction holds are "held": at the end of the step their rates are set to
 // zero by a further impulse (stopHeld), so a stop is inelastic and a stuck joint does not
 // jitter. Both impulses are projections in the metric of M: kinetic energy never grows.
+// The rows act on the tree's independent coordinates (ArticulatedBody::coordinates(): each
+// joint's own without mimic joints), in the space the step solves in (ν, or ν_r with mimic
+// joints: llt and ν̄ are then reduced, and q stays the full vector of joint positions).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -31,7 +34,8 @@ class JointRows {
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
   void solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt, const Eigen::VectorXd& q,
              double h, Eigen::VectorXd& nu_bar);
-  /// Positions within the limits (removes the round-off of q + h ν̄ at a stop).
+  /// Positions within the limits (removes the round-off of q + h ν̄ at a stop); mimic joints'
+  /// positions set from their leaders'.
   void clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const;
   /// Sets the rates of held joints to zero with the impulse that does it in the metric of M
   /// (llt: M at the new pose). Returns whether anything was held.

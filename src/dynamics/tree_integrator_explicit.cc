@@ -5,7 +5,11 @@
 // a baseline); limits by projection after the step (position clamped, the rate into the limit
 // stopped by an impulse on the joint in the metric of M, which keeps a floating tree's
 // momentum). What damping and friction take is booked as the forces' work at the mean of the
-// rates before and after; a step with a stop is booked by the World from its energies.
+// rates before and after; a step with a stop is booked by the World from its energies. With
+// mimic joints the accelerations are those the constraints allow (forwardDynamics), so every
+// stage moves the followers with their leaders; after the step the limits are projected on the
+// independent coordinates (the stop in the metric of M_r = Gᵀ M G) and the followers set from
+// their leaders.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -105,32 +109,38 @@ class Explicit final : public TreeIntegrator {
       dissipated_ += h * (j.damping * v * v + j.friction * std::abs(v));
     }
     held_.clear();
-    for (int k = 0; k < tree.jointCount(); ++k) {  // limits by projection
-      const TreeJoint& j = tree.joints()[k];
-      if (state.q[k] < j.lower) {
-        state.q[k] = j.lower;
-        if (state.v[k] < 0.0) held_.push_back(tree.velocityIndex(k));
+    for (const JointCoordinate& c : tree.coordinates()) {  // limits by projection
+      const int k = c.joint;
+      if (state.q[k] < c.lower) {
+        state.q[k] = c.lower;
+        if (state.v[k] < 0.0) held_.push_back(tree.reducedIndex(k));
         compensated_ = false;
-      } else if (state.q[k] > j.upper) {
-        state.q[k] = j.upper;
-        if (state.v[k] > 0.0) held_.push_back(tree.velocityIndex(k));
+      } else if (state.q[k] > c.upper) {
+        state.q[k] = c.upper;
+        if (state.v[k] > 0.0) held_.push_back(tree.reducedIndex(k));
         compensated_ = false;
       }
     }
     if (!held_.empty() && state.allFinite()) {  // stopped in the metric of M at the new pose
+      const bool mimic = tree.hasMimic();
+      applyMimicPositions(tree, state.q);
       treeKinematics(tree, state, kin_);
       massMatrix(tree, kin_, M_);
-      llt_.compute(M_);
+      if (mimic) reduceMatrix(tree, M_, Mr_);
+      llt_.compute(mimic ? Mr_ : M_);
       setVelocity(tree, state, nu_);
-      stopRates(llt_, held_, nu_);
+      reduceVelocity(tree, nu_, nu_r_);
+      stopRates(llt_, held_, nu_r_);
+      expandVelocity(tree, nu_r_, nu_);
       setVelocityVector(tree, nu_, state);
     }
+    applyMimic(tree, state);  // followers exactly where their leaders put them
     last_q_ = state.q;
     setVelocity(tree, state, last_nu_);
     // The new state's kinematics, for the World to write the links' states from: from the
     // fused path's frames for less than treeKinematics, when it applies.
     if (!state.allFinite()) return;
-    if (MidpointResidual::applies(tree, loads)) {
+    if (fused(tree, loads)) {
       stage_dynamics_.endPose(state.q, end_kin_);
       stage_dynamics_.velocities(state.v, end_kin_);
     } else {
@@ -170,7 +180,11 @@ class Explicit final : public TreeIntegrator {
   }
 
   // A fixed base under gravity alone (the common case) takes MidpointResidual's stage (frames
-  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics.
+  // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics, and a tree
+  // with mimic joints forwardDynamics' constrained accelerations.
+  static bool fused(const ArticulatedBody& tree, const TreeLoads& loads) {
+    return MidpointResidual::applies(tree, loads) && !tree.hasMimic();
+  }
   void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
                     Eigen::VectorXd& out) {
     Eigen::VectorXd& tau = tau_;
@@ -180,7 +194,7 @@ class Explicit final : public TreeIntegrator {
       tau[k] -= j.damping * s.v[k];
       if (s.v[k] != 0.0) tau[k] -= (s.v[k] > 0 ? j.friction : -j.friction);
     }
-    if (MidpointResidual::applies(tree, loads)) {
+    if (fused(tree, loads)) {
       stage_dynamics_.prepare(tree);
       stage_dynamics_.accelerations(s.q, s.v, loads.gravity_W, tau, out);
       if (general_sized_) return;
@@ -214,7 +228,8 @@ class Explicit final : public TreeIntegrator {
   Eigen::VectorXd scratch_;
   double dissipated_ = 0.0;  // what the joints took in the last step (lastDissipated)
   std::vector<int> held_;    // joints stopped at a limit in the last step
-  Eigen::MatrixXd M_;
+  Eigen::MatrixXd M_, Mr_;   // M, and M_r = Gᵀ M G with mimic joints
+  Eigen::VectorXd nu_r_;
   tree_math::Cholesky llt_;
 };
 

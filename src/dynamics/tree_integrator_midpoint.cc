@@ -10,6 +10,11 @@
 //   and ν at the new pose from M(q) ν = (M_W0⁻¹ Π, p).
 // For a fixed base this is the implicit midpoint rule on the canonical (q, p): symplectic. W is
 // the external wrench about the world origin (gravity, applied loads): Π changes by it alone.
+// With mimic joints the same scheme runs on the independent coordinates (articulated_body.h):
+// ν̄ = G ν̄_r, p and the residual are Gᵀ of the joints' (the momenta and forces conjugate to the
+// independent positions), the matrix Gᵀ (M + ½hC) G; the followers' positions are set from their
+// leaders' after each step. A fixed base stays symplectic: these are canonical coordinates of
+// the constrained system.
 #include <algorithm>
 #include <cmath>
 
@@ -106,7 +111,9 @@ class Midpoint final : public TreeIntegrator {
       residual_.massMatrix(M_);
     else
       massMatrix(tree, kin_, M_);
-    llt_.compute(M_);
+    if (!tree.hasMimic()) return llt_.compute(M_);
+    reduceMatrix(tree, M_, Mr_);  // mimic joints: the step solves on ν_r
+    llt_.compute(Mr_);
   }
   // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
   bool damped(const ArticulatedBody& tree) {
@@ -124,7 +131,12 @@ class Midpoint final : public TreeIntegrator {
     Md_ = M_;
     for (int k = 0; k < tree.jointCount(); ++k)
       Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
-    llt_damped_.compute(Md_);
+    if (!tree.hasMimic()) {
+      llt_damped_.compute(Md_);
+    } else {
+      reduceMatrix(tree, Md_, Mdr_);
+      llt_damped_.compute(Mdr_);
+    }
     return llt_damped_;
   }
 
@@ -184,7 +196,9 @@ class Midpoint final : public TreeIntegrator {
 
   // One midpoint step; false when the iteration did not converge (or left finite numbers).
   bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
-    const int n = tree.jointCount(), nv = tree.velocityCount();
+    const int n = tree.jointCount(), nv = tree.reducedCount();  // nv: the space the step solves in
+    const int nj = nv - (tree.floating() ? 6 : 0);  // its joint coordinates (n without mimic)
+    const bool mimic = tree.hasMimic();
     const double lambda = tree.lambda();
     kin_at_state_ = false;
     const bool fresh = sameAsCached(state);
@@ -195,7 +209,12 @@ class Midpoint final : public TreeIntegrator {
       f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
       mid_ = state;
       differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
-      p_ = pm_.tail(n);
+      if (mimic) {
+        p_.resize(nj);
+        reduceJointForce(tree, pm_.tail(n), p_);
+      } else {
+        p_ = pm_.tail(n);
+      }
       if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
     }
     // Start from the extrapolated midpoint velocity when the last step had the same h, else from
@@ -207,10 +226,12 @@ class Midpoint final : public TreeIntegrator {
     if (!extrapolated) contraction_ = 0.0;  // measured anew in this run of steps
     if (extrapolated) {
       nu_bar_ = guess_;  // (not a conditional expression: that would copy into a temporary)
-    } else {
+    } else if (!mimic) {
       nu_bar_.resize(nv);
       if (tree.floating()) nu_bar_.head<6>() = tree_math::vec(state.omega_0);
       nu_bar_.tail(n) = state.v;
+    } else {
+      reduceVelocity(tree, velocityVector(tree, state), nu_bar_);
     }
     if (!fresh || !mass_at_last_) {
       treeKinematics(tree, state, kin_);
@@ -236,19 +257,31 @@ class Midpoint final : public TreeIntegrator {
     start_at_last_ = false;
     for (int it = 0; it < kMaxIterations; ++it) {
       ++iterations_;
+      // The midpoint rates of every joint (with mimic joints, expanded from ν̄_r).
+      if (mimic) expandVelocity(tree, nu_bar_, nu_full_);
+      const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
       if (fused) {
-        residual_.evaluate(state.q, loads.gravity_W, h, nu_bar_, pm_, grad_);
+        residual_.evaluate(state.q, loads.gravity_W, h, nu_all, pm_, grad_);
       } else {
-        mid_.q = state.q + (0.5 * h) * nu_bar_.tail(n);
-        setVelocityVector(tree, nu_bar_, mid_);
+        mid_.q = state.q + (0.5 * h) * nu_all.tail(n);
+        setVelocityVector(tree, nu_all, mid_);
         if (tree.floating())
-          mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.25 * h));
+          mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_all.head<6>()) * (-0.25 * h));
         treeKinematics(tree, mid_, kin_);
         externalMoments(tree, kin_, loads, f_ext_);
         momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
       }
-      r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
-      if (damped(tree))
+      if (!mimic) {
+        r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+      } else {  // Gᵀ of the joints' residual, plus the reduced momenta
+        joint_r_ = (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+        if (damped(tree))
+          for (int k = 0; k < n; ++k)
+            joint_r_[k] -= 0.5 * h * tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
+        reduceJointForce(tree, joint_r_, r_.tail(nj));
+        r_.tail(nj) += p_;
+      }
+      if (damped(tree) && !mimic)
         for (int k = 0; k < n; ++k)
           r_[tree.velocityIndex(k)] -=
               0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
@@ -290,21 +323,29 @@ class Midpoint final : public TreeIntegrator {
       last_change = change;
     }
     if (!(final_change <= kConverged * final_scale) || !finite(nu_bar_)) return false;
+    if (mimic) expandVelocity(tree, nu_bar_, nu_full_);  // the converged ν̄ on every joint
+    const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
     // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
     // the energy check.
     if (fused) load_power = residual_.gravityPower();
     if (!fused)
       for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
         load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
-    const double power = load_power + loads.effort.dot(nu_bar_.tail(n));
+    const double power = load_power + loads.effort.dot(nu_all.tail(n));
     const double T_start = T_;
     // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
     grad_ += loads.effort;
     if (damped(tree))
       for (int k = 0; k < n; ++k)
-        grad_[k] -= tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
-    p_ += h * grad_ + 2.0 * y_.tail(n);
-    state.q += h * nu_bar_.tail(n);
+        grad_[k] -= tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
+    if (!mimic) {
+      p_ += h * grad_ + 2.0 * y_.tail(n);
+    } else {
+      grad_r_.resize(nj);
+      reduceJointForce(tree, grad_, grad_r_);
+      p_ += h * grad_r_ + 2.0 * y_.tail(nj);
+    }
+    state.q += h * nu_all.tail(n);
     rows_.clampPositions(tree, state.q);
     if (tree.floating()) {
       Pi_ += W * h;
@@ -319,7 +360,7 @@ class Midpoint final : public TreeIntegrator {
     factorMass(tree, fixed);
     mass_at_last_ = false;  // until this step is accepted
     rhs_.resize(nv);
-    rhs_.tail(n) = p_;
+    rhs_.tail(nj) = p_;
     if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
     nu_end_ = rhs_;
     llt_.solveInPlace(nu_end_);
@@ -344,15 +385,20 @@ class Midpoint final : public TreeIntegrator {
     // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md):
     // the kinetic energy that stop takes is taken too.
     if (rows_.stopHeld(tree, llt_, nu_end_)) {
-      Mnu_.noalias() = M_ * nu_end_;
-      p_ = Mnu_.tail(n);
+      Mnu_.noalias() = (mimic ? Mr_ : M_) * nu_end_;
+      p_ = Mnu_.tail(nj);
       const double T_stopped = 0.5 * nu_end_.dot(Mnu_);
       taken += T_ - T_stopped;
       T_ = T_stopped;
     }
     if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
     predictNext(nv);
-    setVelocityVector(tree, nu_end_, state);
+    if (mimic) {
+      expandVelocity(tree, nu_end_, nu_full_);
+      setVelocityVector(tree, nu_full_, state);
+    } else {
+      setVelocityVector(tree, nu_end_, state);
+    }
     // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
     if (fixed)
       residual_.velocities(state.v, kin_);
@@ -456,6 +502,10 @@ class Midpoint final : public TreeIntegrator {
   // run of equal steps (0: none yet).
   double contraction_ = 0.0;
   Eigen::VectorXd Mnu_, p_, guess_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_, rhs_;
+  // Mimic joints: ν̄ and ν on every joint, the joints' residual or force before Gᵀ, and the
+  // reduced M and M + ½hC (M_ and Md_ stay on every joint).
+  Eigen::VectorXd nu_full_, joint_r_, grad_r_;
+  Eigen::MatrixXd Mr_, Mdr_;
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;

@@ -46,9 +46,14 @@ Eigen::VectorXd impulseResponse(const ArticulatedBody& tree, const TreeState& st
   // RNEA at rest with no acceleration returns −Jᵀ T: the generalized impulse, negated.
   const Eigen::VectorXd g =
       -inverseDynamics(tree, still, kin, Eigen::VectorXd::Zero(tree.velocityCount()), f);
-  Eigen::MatrixXd M;
+  Eigen::MatrixXd M, M_r;
   massMatrix(tree, kin, M);
-  return M.llt().solve(g);
+  // With mimic joints the impulse moves the tree within ν = G ν_r: Δν = G M_r⁻¹ Gᵀ g.
+  Eigen::VectorXd g_r, dnu;
+  reduceForce(tree, g, g_r);
+  reduceMatrix(tree, M, M_r);
+  expandVelocity(tree, M_r.llt().solve(g_r), dnu);
+  return dnu;
 }
 
 }  // namespace dynamics

@@ -421,10 +421,11 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   p.scene.world_frame = p.world.world_frame;
   CGA_RIGID_SIM_READ(readVector3(pnh, "gravity", &p.scene.gravity_W, "[0.0, 0.0, -9.81]"));
   CGA_RIGID_SIM_READ(readNumber(pnh, "lambda", &p.scene.lambda, "1.0"));
-  bool relax_inertia = false;
+  bool relax_inertia = true;  // the inertia repairs of doc/urdf.md#inertias-from-cad
   CGA_RIGID_SIM_READ(readBool(pnh, "relax_inertia", &relax_inertia));
   p.scene.triangle_policy = relax_inertia ? dynamics::TrianglePolicy::kNearestPhysical
                                           : dynamics::TrianglePolicy::kRefuse;
+  p.world.triangle_policy = p.scene.triangle_policy;  // and for ~spawn_urdf's descriptions
   CGA_RIGID_SIM_READ(readGroundPlane(pnh, &p.world.ground_plane));
   // ~curvature: the radius R of curved space, m (doc/curved_space.md); unset = Euclidean. Its
   // range (finite, nonzero) and what it needs (gravity off, free bodies) the core checks.

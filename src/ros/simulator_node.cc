@@ -62,7 +62,16 @@ int main(int argc, char** argv) {
   }
   for (const auto& w : scene->warnings) ROS_WARN("simulator: %s", w.c_str());
   const std::size_t scene_warnings = scene->warnings.size();
-  node::logInfoLines(scene::sceneSummary(*scene, params->world.integrator));
+  // A robot's links and joints are listed whole up to 60 each; past that the summary says where
+  // the whole list is.
+  scene::SummaryOptions summary;
+  summary.whole_list =
+      params->urdf_from_file
+          ? "rosrun cga_rigid_sim scene_summary " + params->urdf_file + " --all lists every entry"
+          : "rosparam get " + params->urdf_source_name +
+                " > robot.urdf; rosrun cga_rigid_sim scene_summary robot.urdf --all lists every "
+                "entry";
+  node::logInfoLines(scene::sceneSummary(*scene, params->world.integrator, summary));
 
   auto world = sim::World::create(std::move(*scene), params->world);
   if (!world) {

@@ -139,6 +139,7 @@ std::optional<Error> readJointEntry(const JointModel& j, const ParamValue& entry
 }  // namespace
 
 void placeJointChildren(Scene& scene) {
+  followLeaders(scene.joints);  // mimic joints where their leaders put them
   for (const JointModel& j : scene.joints) {
     const cga::Motor M_WP =
         j.parent_body < 0 ? cga::Motor::identity() : scene.bodies[j.parent_body].M_WB0;
@@ -188,8 +189,25 @@ Result<bool> applyInitialState(Scene& scene, const ParamValue& initial_state) {
                    "and joint names are separate in URDF, the keys of initial_state are not)"};
     if (jt != joint_index.end()) {
       const JointModel& j = scene.joints[jt->second];
+      if (j.mimic)
+        return Error{where + ": joint '" + name + "' mimics joint '" +
+                     scene.joints[j.mimic->leader].name +
+                     "' (<mimic>): its position and velocity follow that joint's; give them "
+                     "there"};
       JointUpdate u{jt->second, j.initial_position, j.initial_velocity};
       if (auto err = readJointEntry(j, entry, where, &u.q0, &u.v0, &warnings)) return *err;
+      // A leader also keeps the joints that mimic it within their limits.
+      const auto [lower, upper] = mimicRange(scene.joints, jt->second);
+      if (u.q0 < lower || u.q0 > upper) {
+        const double q = u.q0;
+        u.q0 = q < lower ? lower : upper;
+        const std::string unit = std::string(" ") + positionUnit(j.type);
+        warnings.push_back(where + ".position: " + formatNumber(q, kDigits) + unit +
+                           " would take a joint that mimics joint '" + name +
+                           "' outside its limits: clamped to " + formatNumber(u.q0, kDigits) +
+                           unit + " (the range [" + formatNumber(lower, kDigits) + ", " +
+                           formatNumber(upper, kDigits) + "]" + unit + " keeps them all within)");
+      }
       joint_updates.push_back(u);
       continue;
     }

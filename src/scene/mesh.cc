@@ -1,6 +1,11 @@
 #include "cga_rigid_sim/scene/mesh.h"
 
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <Eigen/LU>
 #include <algorithm>
+#include <assimp/Importer.hpp>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -121,6 +126,77 @@ bool parseObjIndex(const std::string& ref, int vertex_count, int* index) {
   return *index >= 0 && *index < vertex_count;
 }
 
+// A mesh file in one of the formats robot packages ship besides STL and OBJ (Collada .dae above
+// all; also .ply, .3ds, .fbx, .gltf/.glb, .off, …) through assimp: its triangles, every node's
+// transform applied (points and lines dropped, polygons split into triangles). Collada
+// declares its unit and up axis: assimp folds both into the root node as a scale and a turn to
+// its own Y-up convention; turning Y back to Z gives the file's coordinates in metres with the
+// declared up axis along +Z, the convention of ROS (REP 103), so a Z_UP file keeps its
+// coordinates and a Y_UP file is turned by +90° about x. Other formats' coordinates are kept
+// as the file stores them.
+Result<TriangleMesh> readWithAssimp(const std::string& path, bool collada,
+                                    std::vector<std::string>* notes) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+    const std::string why = importer.GetErrorString();
+    return Error{"cannot read mesh file '" + path + "': assimp " +
+                 (why.empty() ? std::string("could not import it") : "says: " + why)};
+  }
+  const auto toEigen = [](const aiMatrix4x4& m) {
+    Eigen::Matrix4d x;
+    x << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
+        m.d4;
+    return x;
+  };
+  Eigen::Matrix4d Y_to_Z = Eigen::Matrix4d::Identity();  // (x, y, z) ↦ (x, −z, y)
+  if (collada) {
+    Y_to_Z.block<3, 3>(0, 0) << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+    // What the root holds: the unit's scale times the turn from the declared up axis to Y.
+    const Eigen::Matrix3d root = toEigen(scene->mRootNode->mTransformation).block<3, 3>(0, 0);
+    const double unit = std::cbrt(std::abs(root.determinant()));
+    const Eigen::Matrix3d turn = Y_to_Z.block<3, 3>(0, 0) * root / unit;
+    if (notes && unit > 0 && !turn.isIdentity(1e-9)) {
+      const char* axis =
+          (turn * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ()) ? "Y_UP" : "X_UP";
+      notes->push_back("mesh '" + path + "' declares <up_axis>" + axis +
+                       "</up_axis>: turned so that its up axis is +z (rviz, Gazebo and MoveIt "
+                       "draw Collada meshes without this turn: if the mesh looks right there, "
+                       "its author meant Z_UP)");
+    }
+  }
+  TriangleMesh mesh;
+  // Depth first over the nodes, each with its transform to the file's frame.
+  std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> stack{
+      {scene->mRootNode, Y_to_Z * toEigen(scene->mRootNode->mTransformation)}};
+  while (!stack.empty()) {
+    const auto [node, X] = stack.back();
+    stack.pop_back();
+    for (unsigned c = 0; c < node->mNumChildren; ++c)
+      stack.emplace_back(node->mChildren[c], X * toEigen(node->mChildren[c]->mTransformation));
+    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+      const aiMesh* in = scene->mMeshes[node->mMeshes[m]];
+      const int first = static_cast<int>(mesh.vertices.size());
+      for (unsigned v = 0; v < in->mNumVertices; ++v) {
+        const aiVector3D& p = in->mVertices[v];
+        const Eigen::Vector3d x = (X * Eigen::Vector4d(p.x, p.y, p.z, 1.0)).head<3>();
+        if (!x.allFinite())
+          return Error{"mesh '" + path + "': vertex " + std::to_string(v) + " is not finite"};
+        mesh.vertices.push_back(x);
+      }
+      for (unsigned f = 0; f < in->mNumFaces; ++f) {
+        const aiFace& face = in->mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines have no area
+        mesh.triangles.push_back({first + static_cast<int>(face.mIndices[0]),
+                                  first + static_cast<int>(face.mIndices[1]),
+                                  first + static_cast<int>(face.mIndices[2])});
+      }
+    }
+  }
+  return weldVertices(mesh);
+}
+
 }  // namespace
 
 TriangleMesh weldVertices(const TriangleMesh& mesh) {
@@ -200,7 +276,7 @@ Result<TriangleMesh> readObj(const std::string& text, const std::string& name) {
   return weldVertices(mesh);
 }
 
-Result<TriangleMesh> readMeshFile(const std::string& path) {
+Result<TriangleMesh> readMeshFile(const std::string& path, std::vector<std::string>* notes) {
   std::ifstream file(path, std::ios::binary);
   const int open_errno = errno;
   // The error_code overload: the throwing one raises when the name cannot be looked up at all
@@ -211,13 +287,12 @@ Result<TriangleMesh> readMeshFile(const std::string& path) {
   if (!file || is_directory)
     return Error{"cannot open mesh file '" + path + "': " +
                  (is_directory ? std::string("is a directory") : std::strerror(open_errno))};
+  const std::string ext = lowercase(fs::path(path).extension().string());
+  if (ext != ".obj" && ext != ".stl") return readWithAssimp(path, ext == ".dae", notes);
   std::ostringstream buffer;
   buffer << file.rdbuf();
-  const std::string ext = lowercase(fs::path(path).extension().string());
   if (ext == ".obj") return readObj(buffer.str(), path);
-  if (ext == ".stl") return readStl(buffer.str(), path);
-  return Error{"mesh file '" + path + "': unsupported format '" + ext +
-               "' (supported: .stl (ASCII or binary), .obj)"};
+  return readStl(buffer.str(), path);
 }
 
 Result<bool> checkClosedMesh(const TriangleMesh& mesh, const std::string& name) {
@@ -294,8 +369,12 @@ Result<std::string> resolveMeshPath(const std::string& uri, const std::string& b
           return (it->path() / inside).string();
       }
     }
-    return Error{"mesh file name '" + uri + "': package '" + package +
-                 "' not found in ROS_PACKAGE_PATH ('" + paths + "')"};
+    return Error{"mesh file name '" + uri + "': package '" + package + "' not found in " +
+                 (paths.empty() ? std::string("ROS_PACKAGE_PATH, which is not set (source your "
+                                              "workspace's setup.bash, or point it at the "
+                                              "directory that holds '" +
+                                              package + "')")
+                                : "ROS_PACKAGE_PATH ('" + paths + "')")};
   }
   const fs::path p(uri);
   if (p.is_absolute() || base_dir.empty()) return p.string();

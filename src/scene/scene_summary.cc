@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -32,8 +33,9 @@ std::string shapeCounts(const BodyModel& body) {
   return os.str();
 }
 
-// One joint on one line: type, parent -> child link, axis, limits, dynamics, initial state.
-std::string jointLine(const JointModel& j) {
+// One joint on one line: type, parent -> child link, axis, limits, dynamics, mimic, initial
+// state.
+std::string jointLine(const Scene& scene, const JointModel& j) {
   const bool prismatic = j.type == JointType::kPrismatic;
   const char* q_unit = prismatic ? " m" : " rad";
   const char* v_unit = prismatic ? " m/s" : " rad/s";
@@ -54,6 +56,14 @@ std::string jointLine(const JointModel& j) {
     os << ", damping " << formatNumber(j.damping, kDigits) << (prismatic ? " N s/m" : " N m s/rad");
   if (j.friction != 0)
     os << ", friction " << formatNumber(j.friction, kDigits) << (prismatic ? " N" : " N m");
+  if (j.mimic) {
+    os << ", mimics " << scene.joints[j.mimic->leader].name
+       << ": q = " << formatNumber(j.mimic->multiplier, kDigits) << " q_"
+       << scene.joints[j.mimic->leader].name;
+    if (j.mimic->offset != 0) os << " + " << formatNumber(j.mimic->offset, kDigits) << q_unit;
+    if (j.mimic->written != scene.joints[j.mimic->leader].name)
+      os << " (through " << j.mimic->written << ")";
+  }
   if (j.initial_position != 0)
     os << ", q0 = " << formatNumber(j.initial_position, kDigits) << q_unit;
   if (j.initial_velocity != 0)
@@ -61,11 +71,18 @@ std::string jointLine(const JointModel& j) {
   return os.str();
 }
 
-}  // namespace
+// "  ... and 3 more bodies (<where the whole list is>)" when `listed` of `total` were shown.
+void more(std::ostream& os, std::size_t total, std::size_t listed, const char* what,
+          const SummaryOptions& options) {
+  if (total > listed)
+    os << "  ... and " << total - listed << " more " << what << " (" << options.whole_list << ")\n";
+}
 
-std::string sceneSummary(const Scene& scene, const std::string& integrator) {
-  constexpr std::size_t kMaxListed = 20;  // one screen
-  std::ostringstream os;
+// The limit of a section (0: all).
+std::size_t limitOf(std::size_t max) { return max == 0 ? SIZE_MAX : max; }
+
+// The sections, in the order the summary prints them. Each writes its heading and lines.
+void headerSection(std::ostream& os, const Scene& scene, const std::string& integrator) {
   std::size_t moving = 0;
   for (const auto& b : scene.bodies) moving += b.is_static ? 0 : 1;
   os << "scene '" << scene.robot_name << "' from " << scene.source << ": " << scene.bodies.size()
@@ -81,6 +98,9 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
     for (const auto& n : names) os << " " << n;
     os << ")\n";
   }
+}
+
+void loadsSection(std::ostream& os, const Scene& scene) {
   os << "loads:\n";
   if (scene.gravity_W.isZero(0.0))
     os << "  gravity: off\n";
@@ -90,6 +110,11 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
   os << "  applied wrenches and impulses: can reach every moving body\n"
         "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
         "acts)\n";
+}
+
+// Bodies, and the count of each integrator path (for the paths section).
+void bodiesSection(std::ostream& os, const Scene& scene, const std::string& integrator,
+                   const SummaryOptions& options, std::map<std::string, std::size_t>& paths) {
   os << "bodies:\n";
   // The bodies of articulated trees (the joints' children and the free roots they hang from)
   // are stepped with their tree, not by the per-body paths.
@@ -100,13 +125,17 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
         tree_role[j.parent_body].empty())
       tree_role[j.parent_body] = "free root of the tree of joint " + j.name;
   }
-  std::map<std::string, std::size_t> path_count;
+  std::size_t robot_total = 0, robot_listed = 0, other_total = 0, other_listed = 0;
   for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
     const BodyModel& b = scene.bodies[k];
     const bool in_tree = !tree_role[k].empty();
     const std::string path = in_tree ? "articulated" : plannedIntegratorPath(scene, b, integrator);
-    ++path_count[path];
-    if (k >= kMaxListed) continue;
+    ++paths[path];
+    std::size_t& total = in_tree ? robot_total : other_total;
+    std::size_t& listed = in_tree ? robot_listed : other_listed;
+    ++total;
+    if (listed >= limitOf(in_tree ? options.max_robot_entries : options.max_bodies)) continue;
+    ++listed;
     os << "  " << b.name << ": ";
     if (b.is_static) {
       os << "static (never stepped)";
@@ -121,33 +150,56 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator) {
         os << " (torque-free)";
     }
     os << "\n";
-    os << "    links:";
-    for (std::size_t i = 0; i < b.links.size(); ++i) os << (i ? ", " : " ") << b.links[i].link;
-    if (!b.merged_joints.empty()) {
-      os << " (merged by fixed joint" << (b.merged_joints.size() > 1 ? "s" : "");
-      for (const auto& j : b.merged_joints) os << " " << j;
-      os << ")";
+    // The links, when the body is more than its root link.
+    if (b.links.size() > 1 || !b.merged_joints.empty()) {
+      os << "    links:";
+      for (std::size_t i = 0; i < b.links.size(); ++i) os << (i ? ", " : " ") << b.links[i].link;
+      if (!b.merged_joints.empty()) {
+        os << " (merged by fixed joint" << (b.merged_joints.size() > 1 ? "s" : "");
+        for (const auto& j : b.merged_joints) os << " " << j;
+        os << ")";
+      }
+      os << "\n";
     }
-    os << "\n";
     // Only bodies with shapes get the line: a scene without contacts keeps its one screen.
     if (!b.shapes.empty()) os << "    collision shapes: " << shapeCounts(b) << "\n";
   }
-  if (scene.bodies.size() > kMaxListed)
-    os << "  ... and " << scene.bodies.size() - kMaxListed << " more bodies\n";
-  if (!scene.joints.empty()) {
-    os << "joints:\n";
-    for (std::size_t k = 0; k < scene.joints.size() && k < kMaxListed; ++k)
-      os << "  " << jointLine(scene.joints[k]) << "\n";
-    if (scene.joints.size() > kMaxListed)
-      os << "  ... and " << scene.joints.size() - kMaxListed << " more joints\n";
-  }
+  more(os, robot_total, robot_listed, "bodies of articulated trees", options);
+  more(os, other_total, other_listed, "bodies", options);
+}
+
+void jointsSection(std::ostream& os, const Scene& scene, const SummaryOptions& options) {
+  if (scene.joints.empty()) return;
+  os << "joints:\n";
+  const std::size_t listed = std::min(scene.joints.size(), limitOf(options.max_robot_entries));
+  for (std::size_t k = 0; k < listed; ++k) os << "  " << jointLine(scene, scene.joints[k]) << "\n";
+  more(os, scene.joints.size(), listed, "joints", options);
+}
+
+void pathsSection(std::ostream& os, const std::map<std::string, std::size_t>& paths) {
   os << "paths:";
-  for (const auto& [path, n] : path_count) os << " " << path << " x" << n << ";";
+  for (const auto& [path, n] : paths) os << " " << path << " x" << n << ";";
   os << "\n";
-  if (!scene.warnings.empty()) {
-    os << "warnings:\n";
-    for (const auto& w : scene.warnings) os << "  " << w << "\n";
-  }
+}
+
+void warningsSection(std::ostream& os, const Scene& scene) {
+  if (scene.warnings.empty()) return;
+  os << "warnings (" << scene.warnings.size() << "):\n";
+  for (const auto& w : scene.warnings) os << "  " << w << "\n";
+}
+
+}  // namespace
+
+std::string sceneSummary(const Scene& scene, const std::string& integrator,
+                         const SummaryOptions& options) {
+  std::ostringstream os;
+  std::map<std::string, std::size_t> paths;
+  headerSection(os, scene, integrator);
+  loadsSection(os, scene);
+  bodiesSection(os, scene, integrator, options, paths);
+  jointsSection(os, scene, options);
+  pathsSection(os, paths);
+  warningsSection(os, scene);
   return os.str();
 }
 

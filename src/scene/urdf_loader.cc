@@ -42,6 +42,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -62,12 +63,25 @@ namespace scene {
 
 namespace {
 
+// The inertia repairs (doc/urdf.md#inertias-from-cad) are made by default, with a warning; the
+// strict option refuses instead, and its messages say how to accept the repair.
 const char* const kRelaxHint =
-    "; if this comes from rounding in a real robot's URDF, set the ROS parameter "
-    "~relax_inertia:=true (SceneOptions::triangle_policy = kNearestPhysical) to accept it with a "
-    "warning and use the nearest physical inertia";
+    " (refused because ~relax_inertia is false, SceneOptions::triangle_policy = kRefuse; by "
+    "default the loader repairs this with a warning)";
+const char* const kRepairedNote = " (~relax_inertia:=false refuses this instead)";
+// A moving body with no mass of its own that carries massive links through further joints
+// (the dummy link between two joints of a universal joint) gets this fraction of what it
+// carries: mass and moments negligible in the dynamics, and every body of the tree physical.
+constexpr double kPlaceholderFraction = 1e-6;
 
 std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+
+// A link's tf frame name: its name without leading '/' (tf2 refuses frame ids that start with
+// one; ROS 1 descriptions written for tf (1) often have them).
+std::string tfFrame(const std::string& link) {
+  const std::size_t start = link.find_first_not_of('/');
+  return start == std::string::npos ? std::string() : link.substr(start);
+}
 
 // Numbers in messages: 10 significant digits show a triangle inequality broken in the 8th.
 constexpr int kDigits = 10;
@@ -79,6 +93,13 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
                    .toRotationMatrix();
   X.translation() << p.position.x, p.position.y, p.position.z;
   return X;
+}
+
+// Where a joint welded for want of mass stays: its default initial position (0 clamped into
+// its limits).
+double weldedPosition(const detail::JointXml& j) {
+  const JointLimits& l = j.limits;
+  return l.has_position ? std::clamp(0.0, l.lower, l.upper) : 0.0;
 }
 
 // Everything the loader needs in one place while it runs.
@@ -125,8 +146,12 @@ class Loader {
   Result<BodyModel> buildBody(const BodyRoot& root, int index, std::vector<BodyRoot>* more_roots);
   JointModel jointModel(const BodyRoot& root, int index, const BodyModel& child) const;
   static void orderParentFirst(Scene* scene, const std::vector<int>& document_order);
+  std::optional<Error> resolveMimics(Scene* scene) const;
+  std::optional<Error> nameFramesForTf(Scene* scene);
   void setDefaultInitialPositions(Scene* scene);
   std::vector<urdf::JointSharedPtr> childJoints(const urdf::Link& link) const;
+  bool weldsMassless(const urdf::Joint& j);
+  Eigen::Isometry3d weldedMotion(const urdf::Joint& j) const;
 
   const std::string& source_;
   const std::string& base_dir_;
@@ -134,9 +159,25 @@ class Loader {
   detail::UrdfXml xml_;
   const urdf::ModelInterface* model_ = nullptr;
   std::unordered_map<std::string, LinkMass> masses_;
+  // Per link: the mass (kg) and the largest principal moment (kg m²) of it and every link below
+  // it through fixed and moving joints (not floating ones: they start other free bodies).
+  struct Carried {
+    double mass = 0.0, moment = 0.0;
+  };
+  std::unordered_map<std::string, Carried> carried_;
+  void findCarried();
+  bool strict() const { return options_.triangle_policy == dynamics::TrianglePolicy::kRefuse; }
+  std::string warnAt(int line) const { return source_ + ":" + std::to_string(line) + ": "; }
   std::map<std::string, TriangleMesh> meshes_;  // by resolved path: each file read once
   std::vector<std::string> warnings_;
 };
+
+// The text-size bound's message (kMaxUrdfBytes).
+std::string textTooLarge(std::uintmax_t bytes) {
+  return "the robot description is " + std::to_string(bytes) + " bytes long; the loader reads " +
+         "at most " + std::to_string(kMaxUrdfBytes) + " bytes (kMaxUrdfBytes, 128 MiB; " +
+         "doc/urdf.md#bounds)";
+}
 
 std::optional<Error> Loader::checkOptions() const {
   if (!std::isfinite(options_.lambda) || !(options_.lambda > 0))
@@ -218,10 +259,19 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
                           " kg (a link's mass must be > 0, or 0 for a massless link)");
   LinkMass out;
   if (in.mass == 0) {
-    if (!J_I.isZero(0.0))
-      return fail(line, owner +
-                            ": mass is 0 but the inertia is not; a massless link must have "
-                            "zero inertia (or give the link its mass)");
+    if (!J_I.isZero(0.0)) {
+      const std::string what = owner + ": mass is 0 but the inertia is not";
+      if (strict())
+        return fail(line, what +
+                              "; a massless link must have zero inertia (or give the link its "
+                              "mass)" +
+                              kRelaxHint);
+      // No mass distribution of mass 0 has a moment: the nearest physical inertia is none.
+      warnings_.push_back(warnAt(line) + what + " (" + formatNumber(in.ixx, kDigits) + ", " +
+                          formatNumber(in.iyy, kDigits) + ", " + formatNumber(in.izz, kDigits) +
+                          " kg m^2 on the diagonal): the inertia is dropped, the link is massless" +
+                          kRepairedNote);
+    }
     return out;  // massless: contributes nothing
   }
   // A link's own inertia must be physical: positive semi-definite (a point mass or a thin rod
@@ -242,16 +292,15 @@ Result<Loader::LinkMass> Loader::linkMassFromInertial(const urdf::Link& link) {
                                "(principal moments " +
                                formatNumber(m[0], kDigits) + " + " + formatNumber(m[1], kDigits) +
                                " < " + formatNumber(m[2], kDigits) + " kg m^2)";
-    if (options_.triangle_policy == dynamics::TrianglePolicy::kRefuse)
-      return fail(line, broken + kRelaxHint);
+    if (strict()) return fail(line, broken + kRelaxHint);
     // Nearest physical moments (Euclidean distance): project onto I1 + I2 = I3 along (1, 1, −1).
     const double d = (m[2] - m[0] - m[1]) / 3.0;
     m += Eigen::Vector3d(d, d, -d);
     J_I = eig.eigenvectors() * m.asDiagonal() * eig.eigenvectors().transpose();
-    warnings_.push_back(source_ + ":" + std::to_string(line) + ": " + broken +
-                        "; relax_inertia is set: using the nearest physical moments " +
+    warnings_.push_back(warnAt(line) + broken + ": using the nearest physical moments " +
                         formatNumber(m[0], kDigits) + ", " + formatNumber(m[1], kDigits) + ", " +
-                        formatNumber(m[2], kDigits));
+                        formatNumber(m[2], kDigits) + " kg m^2 (principal axes kept)" +
+                        kRepairedNote);
   }
   MassProperties p;
   p.mass = in.mass;
@@ -273,8 +322,11 @@ std::optional<Error> Loader::loadCollisionMeshes(
     if (!path) return fail(g.geometry_line, owner + path.error() + tag);
     auto read = meshes_.find(*path);
     if (read == meshes_.end()) {
-      auto mesh = readMeshFile(*path);
+      std::vector<std::string> notes;
+      auto mesh = readMeshFile(*path, &notes);
       if (!mesh) return fail(g.geometry_line, owner + mesh.error() + tag);
+      for (const std::string& n : notes)
+        warnings_.push_back(warnAt(g.geometry_line) + owner + n + tag);
       read = meshes_.emplace(*path, std::move(*mesh)).first;
     }
     if (read->second.triangles.empty())
@@ -341,6 +393,71 @@ std::vector<urdf::JointSharedPtr> Loader::childJoints(const urdf::Link& link) co
   return joints;
 }
 
+// carried_: a post-order walk over the links (no recursion: deep chains), summing each link's
+// mass and keeping the largest moment below it, through fixed and moving joints.
+void Loader::findCarried() {
+  std::vector<std::pair<const urdf::Link*, bool>> stack{{model_->getRoot().get(), false}};
+  while (!stack.empty()) {
+    const auto [link, done] = stack.back();
+    stack.pop_back();
+    const auto joints = childJoints(*link);
+    if (!done) {  // every link gets its entry, the free bodies' below floating joints too
+      stack.emplace_back(link, true);
+      for (const auto& j : joints)
+        stack.emplace_back(model_->getLink(j->child_link_name).get(), false);
+      continue;
+    }
+    Carried c;
+    const auto own = masses_.find(link->name);
+    if (own != masses_.end() && own->second.massive) {
+      c.mass = own->second.in_link.mass;
+      c.moment = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(own->second.in_link.J_F,
+                                                                Eigen::EigenvaluesOnly)
+                     .eigenvalues()
+                     .maxCoeff();
+    }
+    for (const auto& j : joints) {
+      if (j->type == urdf::Joint::FLOATING) continue;
+      const Carried& below = carried_.at(j->child_link_name);
+      c.mass += below.mass;
+      c.moment = std::max(c.moment, below.moment);
+    }
+    carried_[link->name] = c;
+  }
+}
+
+// A moving joint whose child carries no mass at all (the link and everything below it: a sensor
+// frame on a revolute joint) has no dynamics: nothing resists its motion. By default it is
+// welded at its initial position, with a warning (tf keeps publishing the frames below it), unless
+// the strict option is set or a <mimic> involves it (then the body is refused for its mass).
+bool Loader::weldsMassless(const urdf::Joint& j) {
+  const detail::JointXml& xml = xml_.joints.at(j.name);
+  if (!xml.type || strict() || carried_.at(j.child_link_name).mass > 0 || xml.mimic) return false;
+  for (const auto& [name, other] : xml_.joints)
+    if (other.mimic && other.mimic->joint == j.name) return false;
+  warnings_.push_back(warnAt(xml.line) + toString(*xml.type) + " joint " + inQuotes(j.name) +
+                      " moves link " + inQuotes(j.child_link_name) +
+                      ", which carries no mass (no <inertial> there or below it): nothing resists "
+                      "its motion, so it is welded at " +
+                      formatNumber(weldedPosition(xml), kDigits) +
+                      (*xml.type == JointType::kPrismatic ? " m" : " rad") +
+                      " like a fixed joint (give the link an <inertial> to simulate the joint)" +
+                      kRepairedNote);
+  return true;
+}
+
+// The welded joint's motion at its default initial position (0 clamped into its limits).
+Eigen::Isometry3d Loader::weldedMotion(const urdf::Joint& j) const {
+  const detail::JointXml& xml = xml_.joints.at(j.name);
+  const double q = weldedPosition(xml);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  if (*xml.type == JointType::kPrismatic)
+    X.translation() = q * xml.axis;
+  else
+    X.linear() = Eigen::AngleAxisd(q, xml.axis).toRotationMatrix();
+  return X;
+}
+
 // One body (roots[index]): the links reached from its root link through fixed joints.
 // Floating joints met on the way start further free bodies, revolute, continuous and prismatic
 // joints further moving bodies hinged to this one (appended to `more_roots`).
@@ -370,6 +487,9 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, int index,
         stack.emplace_back(child, X_RC);
       } else if (j.type == urdf::Joint::FLOATING) {
         more_roots->push_back({child, root.X_WR * X_RC, false});
+      } else if (weldsMassless(j)) {  // nothing with mass moves: welded at its initial position
+        body.merged_joints.push_back(j.name);
+        stack.emplace_back(child, X_RC * weldedMotion(j));
       } else if (xml_.joints.at(j.name).type) {  // revolute, continuous, prismatic
         hinged.push_back({child, root.X_WR * X_RC, false, &j, index, X_RC});
       } else {  // the XML pass refuses the others first; kept so no joint is ever taken as fixed
@@ -393,7 +513,23 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, int index,
       const LinkMass& lm = masses_.at(link->name);
       if (lm.massive) parts.push_back(transformed(lm.in_link, X_RL));
     }
-    const MassProperties sum = combine(parts);
+    MassProperties sum = combine(parts);
+    const Carried& below = carried_.at(root.link->name);
+    if (!(sum.mass > 0) && below.mass > 0 && !strict()) {
+      // It carries massive links through further joints: a placeholder of kPlaceholderFraction
+      // of what it carries, at its root link's origin.
+      sum.mass = kPlaceholderFraction * below.mass;
+      sum.J_F = kPlaceholderFraction * below.moment * Eigen::Matrix3d::Identity();
+      sum.com_F.setZero();
+      warnings_.push_back(warnAt(linkLine(body.name)) + "body " + inQuotes(body.name) +
+                          " has no mass of its own (links " + link_list + ") but moves the " +
+                          formatNumber(below.mass, kDigits) + " kg below it: given " +
+                          formatNumber(sum.mass, kDigits) + " kg and moments " +
+                          formatNumber(sum.J_F(0, 0), kDigits) + " kg m^2 (" +
+                          formatNumber(kPlaceholderFraction, 1) +
+                          " of what it carries; a moving body needs mass and inertia)" +
+                          kRepairedNote);
+    }
     if (!(sum.mass > 0)) {
       const std::string none = " has no mass: none of its links (" + link_list +
                                ") has an <inertial> with mass > 0 or a <" +
@@ -425,7 +561,7 @@ Result<BodyModel> Loader::buildBody(const BodyRoot& root, int index,
             "masses on one line have none about that line)";
       return fail(linkLine(body.name), what);
     }
-    if (!warning.empty()) warnings_.push_back(source_ + ": " + warning);
+    if (!warning.empty()) warnings_.push_back(source_ + ": " + warning + kRepairedNote);
     X_RB.translation() = sum.com_F;
     X_RB.linear() = inertia->rotationFromPrincipal().toRotationMatrix();
     body.inertia = *inertia;
@@ -508,26 +644,162 @@ void Loader::orderParentFirst(Scene* scene, const std::vector<int>& document_ord
             [](const JointModel& a, const JointModel& b) { return a.child_body < b.child_body; });
 }
 
-// Each joint starts at q = 0 unless its limits exclude 0: then at the nearest limit, with a
-// warning (the initial-state dictionary can choose another position).
-void Loader::setDefaultInitialPositions(Scene* scene) {
+// Each joint's <mimic>, resolved to the independent joint at the end of its chain (multipliers
+// and offsets composed: q = m1 (m2 q_l + o2) + o1), and refused where the constraint cannot be
+// simulated: leader and follower in different trees (a tree on a free root and another tree,
+// joints on the ground — the world or a static body — belong together), or no position of the
+// leader that keeps every follower within its limits.
+std::optional<Error> Loader::resolveMimics(Scene* scene) const {
+  std::vector<JointModel>& joints = scene->joints;
+  std::unordered_map<std::string, int> index;
+  std::vector<int> moved_by(scene->bodies.size(), -1);
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    index.emplace(joints[k].name, static_cast<int>(k));
+    moved_by[joints[k].child_body] = static_cast<int>(k);
+  }
+  // The free root a joint's tree hangs from, or −1 for the ground.
+  const auto rootOf = [&](int k) {
+    int body = joints[k].parent_body;
+    while (body >= 0 && moved_by[body] >= 0) body = joints[moved_by[body]].parent_body;
+    return body < 0 || scene->bodies[body].is_static ? -1 : body;
+  };
+  const auto rootName = [&](int root) {
+    return root < 0 ? "on the ground ('" + options_.world_frame + "' or a link fixed to it)"
+                    : "hanging from the free body " + inQuotes(scene->bodies[root].name);
+  };
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const detail::JointXml& xml = xml_.joints.at(joints[k].name);
+    if (!xml.mimic) continue;
+    JointMimic m;
+    m.written = xml.mimic->joint;
+    m.multiplier = xml.mimic->multiplier;
+    m.offset = xml.mimic->offset;
+    int leader = index.at(m.written);  // the XML pass checked the chain ends at such a joint
+    for (const detail::JointXml* next = &xml_.joints.at(m.written); next->mimic;
+         next = &xml_.joints.at(joints[leader].name)) {
+      m.offset += m.multiplier * next->mimic->offset;
+      m.multiplier *= next->mimic->multiplier;
+      leader = index.at(next->mimic->joint);
+    }
+    m.leader = leader;
+    const std::string owner =
+        "joint " + inQuotes(joints[k].name) + ": <mimic joint=" + inQuotes(m.written) + ">";
+    const int a = rootOf(static_cast<int>(k)), b = rootOf(leader);
+    if (a != b)
+      return fail(xml.mimic->line, owner + ": " + inQuotes(joints[leader].name) +
+                                       " is in another articulated tree (" + rootName(b) +
+                                       ", this one " + rootName(a) +
+                                       "); a mimic constraint couples joints of one tree");
+    if (!std::isfinite(m.multiplier) || !std::isfinite(m.offset))
+      return fail(xml.mimic->line, owner + ": the composed multiplier and offset overflow");
+    const JointLimits& l = joints[k].limits;
+    if (m.multiplier == 0.0 && l.has_position && !(l.lower <= m.offset && m.offset <= l.upper))
+      return fail(xml.mimic->line, owner + ": multiplier 0 holds the joint at its offset " +
+                                       formatNumber(m.offset, kDigits) + ", outside its limits [" +
+                                       formatNumber(l.lower, kDigits) + ", " +
+                                       formatNumber(l.upper, kDigits) + "]");
+    joints[k].mimic = m;
+  }
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const auto [lower, upper] = mimicRange(joints, static_cast<int>(k));
+    if (lower <= upper) continue;
+    std::string followers;
+    for (const JointModel& j : joints)
+      if (j.mimic && j.mimic->leader == static_cast<int>(k))
+        followers += (followers.empty() ? "" : ", ") + inQuotes(j.name);
+    return fail(xml_.joints.at(joints[k].name).line,
+                "joint " + inQuotes(joints[k].name) + " and the joints that mimic it (" +
+                    followers + ") cannot all be within their limits: mapped to " +
+                    inQuotes(joints[k].name) + ", their limits leave no position (" +
+                    formatNumber(lower, kDigits) + " > " + formatNumber(upper, kDigits) + ")");
+  }
+  return std::nullopt;
+}
+
+// Links whose names begin with '/' are published on tf without it (tf2 refuses such frame ids),
+// and known by that name everywhere else (bodies, initial state, messages), with a warning; two
+// links that would become one frame, or a link that would become the world frame, are refused.
+std::optional<Error> Loader::nameFramesForTf(Scene* scene) {
+  std::unordered_map<std::string, std::string> by_frame;  // tf frame → link, for every link
+  std::unordered_map<std::string, std::string> renamed;   // link → its frame, where they differ
+  std::vector<std::string> names;
+  for (const auto& [name, link] : xml_.links) names.push_back(name);
+  std::sort(names.begin(), names.end(),
+            [&](const std::string& a, const std::string& b) { return linkLine(a) < linkLine(b); });
+  const std::string& world = options_.world_frame;
+  const bool has_world_root =
+      model_->getRoot()->name != world && tfFrame(model_->getRoot()->name) == world;
+  for (const std::string& name : names) {
+    const std::string frame = tfFrame(name);
+    if (frame.empty())
+      return fail(linkLine(name), "link " + inQuotes(name) +
+                                      " has no name once its leading '/' is removed (tf2 takes "
+                                      "frame ids without it)");
+    const bool root = name == model_->getRoot()->name;
+    if (frame == world && name != world && !(root && has_world_root))
+      return fail(linkLine(name), "link " + inQuotes(name) + " would be published as the tf " +
+                                      "frame " + inQuotes(frame) + ", the world frame " +
+                                      "(~world_frame), which only the root link may be; rename it");
+    const auto [it, added] = by_frame.emplace(frame, name);
+    if (!added)
+      return fail(linkLine(name), "links " + inQuotes(it->second) + " (line " +
+                                      std::to_string(linkLine(it->second)) + ") and " +
+                                      inQuotes(name) + " would both be published as the tf " +
+                                      "frame " + inQuotes(frame) + " (tf2 takes frame ids " +
+                                      "without a leading '/'); rename one");
+    if (frame == name) continue;
+    renamed.emplace(name, frame);
+    warnings_.push_back(warnAt(linkLine(name)) + "link " + inQuotes(name) +
+                        " is published on tf as " + inQuotes(frame) +
+                        " and known by that name (tf2 refuses frame ids that begin with '/')");
+  }
+  if (renamed.empty()) return std::nullopt;
+  const auto rename = [&](std::string& link) {
+    const auto it = renamed.find(link);
+    if (it != renamed.end()) link = it->second;
+  };
+  for (BodyModel& b : scene->bodies) {
+    const std::string old_root = b.links.front().link;
+    for (LinkFrame& l : b.links) {
+      for (CollisionShape& shape : b.shapes)  // default names '<link>#<k>' follow the link
+        if (&b.links[shape.link_index] == &l && shape.name.rfind(l.link + "#", 0) == 0)
+          shape.name = tfFrame(l.link) + shape.name.substr(l.link.size());
+      rename(l.link);
+    }
+    if (b.name == old_root) b.name = b.links.front().link;
+  }
   for (JointModel& j : scene->joints) {
-    const JointLimits& l = j.limits;
-    if (!l.has_position || (l.lower <= 0.0 && 0.0 <= l.upper)) continue;
-    j.initial_position = 0.0 < l.lower ? l.lower : l.upper;
+    rename(j.parent_link);
+    rename(j.child_link);
+  }
+  return std::nullopt;
+}
+
+// Each joint starts at q = 0 unless its limits exclude 0: then at the nearest limit, with a
+// warning (the initial-state dictionary can choose another position). A joint that mimics
+// another starts where its leader puts it; a leader's limits include those of its followers.
+void Loader::setDefaultInitialPositions(Scene* scene) {
+  for (std::size_t k = 0; k < scene->joints.size(); ++k) {
+    JointModel& j = scene->joints[k];
+    if (j.mimic) continue;
+    const auto [lower, upper] = mimicRange(scene->joints, static_cast<int>(k));
+    if (lower <= 0.0 && 0.0 <= upper) continue;
+    const bool own = j.limits.has_position && (j.limits.lower > 0.0 || j.limits.upper < 0.0);
+    j.initial_position = 0.0 < lower ? lower : upper;
     const char* unit = j.type == JointType::kPrismatic ? " m" : " rad";
-    warnings_.push_back(source_ + ":" + std::to_string(xml_.joints.at(j.name).line) + ": joint " +
-                        inQuotes(j.name) + ": the default initial position 0" + unit +
-                        " is outside its limits [" + formatNumber(l.lower, kDigits) + ", " +
-                        formatNumber(l.upper, kDigits) + "]" + unit + ": clamped to the " +
-                        (0.0 < l.lower ? "lower" : "upper") + " limit " +
-                        formatNumber(j.initial_position, kDigits) + unit + " (~initial_state." +
-                        j.name + ".position chooses another)");
+    warnings_.push_back(
+        source_ + ":" + std::to_string(xml_.joints.at(j.name).line) + ": joint " +
+        inQuotes(j.name) + ": the default initial position 0" + unit + " is outside its limits [" +
+        formatNumber(lower, kDigits) + ", " + formatNumber(upper, kDigits) + "]" + unit +
+        (own ? "" : " (those of the joints that mimic it, mapped to it)") + ": clamped to the " +
+        (0.0 < lower ? "lower" : "upper") + " limit " + formatNumber(j.initial_position, kDigits) +
+        unit + " (~initial_state." + j.name + ".position chooses another)");
   }
 }
 
 Result<Scene> Loader::load(const std::string& xml) {
   if (auto err = checkOptions()) return *err;
+  if (xml.size() > kMaxUrdfBytes) return fail(0, textTooLarge(xml.size()));
   auto checked = detail::readUrdfXml(xml, source_, options_.world_frame);
   if (!checked) return Error{checked.error()};
   xml_ = std::move(*checked);
@@ -547,10 +819,18 @@ Result<Scene> Loader::load(const std::string& xml) {
   if (auto err = crossCheck(*model)) return *err;
   model_ = model.get();
 
-  // (3) every link's mass properties in its own frame.
+  // (3) every link's mass properties in its own frame, in document order (so an error names
+  // the first link and mesh the user wrote that fails).
   const urdf::LinkConstSharedPtr root = model->getRoot();
-  const bool rooted_in_world = root->name == options_.world_frame;
-  for (const auto& [name, link] : model->links_) {
+  const bool rooted_in_world = tfFrame(root->name) == options_.world_frame;
+  std::vector<std::pair<const std::string*, const urdf::LinkSharedPtr*>> in_order;
+  for (const auto& entry : model->links_) in_order.emplace_back(&entry.first, &entry.second);
+  std::sort(in_order.begin(), in_order.end(), [&](const auto& a, const auto& b) {
+    return xml_.links.at(*a.first).order < xml_.links.at(*b.first).order;
+  });
+  for (const auto& [name_ptr, link_ptr] : in_order) {
+    const std::string& name = *name_ptr;
+    const urdf::LinkSharedPtr& link = *link_ptr;
     detail::LinkXml& lx = xml_.links.at(name);
     if (rooted_in_world && name == options_.world_frame) {
       if (lx.has_inertial || lx.has_mass_from_geometry)
@@ -571,13 +851,18 @@ Result<Scene> Loader::load(const std::string& xml) {
     masses_.emplace(name, *lm);
   }
 
+  findCarried();
+
   // (4) bodies, and the joints that start them.
   std::vector<BodyRoot> roots;
   if (rooted_in_world) {
     for (const auto& j : childJoints(*root)) {
       const urdf::Link* child = model->getLink(j->child_link_name).get();
       const Eigen::Isometry3d X_WJ = toIsometry(j->parent_to_joint_origin_transform);
-      if (xml_.joints.at(j->name).type)  // revolute, continuous, prismatic: hinged to the world
+      if (weldsMassless(*j))  // nothing with mass moves: a static body where the joint rests
+        roots.push_back({child, X_WJ * weldedMotion(*j), true});
+      else if (xml_.joints.at(j->name)
+                   .type)  // revolute, continuous, prismatic: hinged to the world
         roots.push_back({child, X_WJ, false, j.get(), -1, X_WJ});
       else
         roots.push_back({child, X_WJ, j->type == urdf::Joint::FIXED});
@@ -603,6 +888,8 @@ Result<Scene> Loader::load(const std::string& xml) {
     return xml_.links.at(scene.bodies[a].name).order < xml_.links.at(scene.bodies[b].name).order;
   });
   orderParentFirst(&scene, document_order);
+  if (auto err = resolveMimics(&scene)) return *err;
+  if (auto err = nameFramesForTf(&scene)) return *err;
 
   // (5) the joints' initial positions and the bodies they place, then the initial state.
   setDefaultInitialPositions(&scene);
@@ -624,6 +911,8 @@ Result<Scene> loadUrdfFile(const std::string& path, const SceneOptions& options)
   std::error_code ec;
   if (fs::is_directory(path, ec))
     return Error{"cannot read URDF file '" + path + "': it is a directory"};
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxUrdfBytes) return Error{path + ": " + textTooLarge(size)};
   std::ifstream file(path, std::ios::binary);
   if (!file) return Error{"cannot read URDF file '" + path + "': " + std::strerror(errno)};
   std::ostringstream text;

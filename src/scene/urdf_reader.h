@@ -95,6 +95,8 @@ class Reader {
                                             LinkXml* out) const;
   std::optional<Error> checkExtensionPlacement(const XMLElement* robot) const;
   std::optional<Error> checkTree() const;
+  // Every <mimic> names another articulated joint, and following them never loops.
+  std::optional<Error> checkMimics() const;
 
   const std::string& source_;
   const std::string& world_frame_;

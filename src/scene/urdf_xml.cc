@@ -7,10 +7,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <sstream>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/urdf_loader.h"
 #include "urdf_reader.h"
 
 namespace cga_rigid_sim {
@@ -214,6 +216,20 @@ std::optional<Error> Reader::readJointMotion(const XMLElement* e, const std::str
       return fail(line, owner + ": <limit> velocity must be >= 0 (got " +
                             formatNumber(limits.velocity, 10) + unit +
                             "): it bounds the magnitude of the joint's velocity");
+    // CAD exporters (the SolidWorks URDF exporter among them) write effort="0" velocity="0" as
+    // placeholders; taken literally, an effort limit of 0 holds every command at 0.
+    for (double* value : {&limits.effort, &limits.velocity}) {
+      if (*value != 0.0) continue;
+      *value = std::numeric_limits<double>::infinity();
+      const bool effort = value == &limits.effort;
+      out_.warnings.push_back(source_ + ":" + std::to_string(line) + ": " + owner + ": <limit " +
+                              (effort ? "effort" : "velocity") +
+                              "=\"0\"> read as no limit given (a placeholder CAD exporters "
+                              "write; " +
+                              (effort ? "a limit of 0 would hold every effort command at 0"
+                                      : "a velocity limit is not enforced anyway") +
+                              "): give the real limit to bound it");
+    }
     if (type != JointType::kContinuous) {
       unit = type == JointType::kPrismatic ? " m" : " rad";
       if (lower > upper)
@@ -282,11 +298,24 @@ std::optional<Error> Reader::readJoint(const XMLElement* e, int order) {
                                 " (URDF joint types: fixed, floating, revolute, continuous, "
                                 "prismatic, planar; supported: fixed, floating, revolute, "
                                 "continuous, prismatic)");
-  if (const XMLElement* mimic = e->FirstChildElement("mimic"))
-    return fail(mimic->GetLineNum(), owner +
-                                         " has a <mimic> element: mimic joints are not "
-                                         "supported yet (remove it to simulate the joint "
-                                         "as an independent one)");
+  if (const XMLElement* mimic = e->FirstChildElement("mimic")) {
+    MimicXml m;
+    m.line = mimic->GetLineNum();
+    const char* leader = mimic->Attribute("joint");
+    if (!leader || !*leader)
+      return fail(m.line, owner +
+                              ": <mimic> has no joint attribute (it names the joint this "
+                              "one follows)");
+    m.joint = leader;
+    if (auto err = readNumberAttr(mimic, "multiplier", owner, false, &m.multiplier)) return err;
+    if (auto err = readNumberAttr(mimic, "offset", owner, false, &m.offset)) return err;
+    if (!joint.type)
+      return fail(m.line, owner + " is " + t +
+                              " but has a <mimic>: only a revolute, continuous "
+                              "or prismatic joint has a position that can follow another "
+                              "joint's (remove the <mimic>)");
+    joint.mimic = m;
+  }
   Eigen::Isometry3d X;
   if (auto err = readOrigin(e, owner, &X)) return err;
   if (joint.type)
@@ -365,21 +394,30 @@ std::optional<Error> Reader::checkTree() const {
                     " both have no parent joint; a URDF is one tree (to simulate several bodies, "
                     "give each a floating joint from a common '" +
                     world_frame_ + "' link)");
-  // Links not reachable from the root hang in a cycle of joints.
+  // Links not reachable from the root hang in a cycle of joints. The depth of each link (joints
+  // from the root) is bounded: urdfdom builds the tree recursively.
   std::unordered_map<std::string, bool> reached;
   if (!roots.empty()) {
-    std::vector<std::string> stack{roots[0]};
+    std::vector<std::pair<std::string, int>> stack{{roots[0], 0}};
     reached[roots[0]] = true;
     while (!stack.empty()) {
-      const std::string l = stack.back();
+      const auto [l, depth] = stack.back();
       stack.pop_back();
       const auto c = children.find(l);
       if (c == children.end()) continue;
-      for (const std::string& child : c->second)
-        if (!reached[child]) {
-          reached[child] = true;
-          stack.push_back(child);
-        }
+      for (const std::string& child : c->second) {
+        if (reached[child]) continue;
+        reached[child] = true;
+        if (depth + 1 > kMaxUrdfDepth)
+          return fail(parent_joint.at(child)->line,
+                      "link " + inQuotes(child) + " is more than " + std::to_string(kMaxUrdfDepth) +
+                          " joints below the root link " + inQuotes(roots[0]) +
+                          "; the loader takes chains of at most " + std::to_string(kMaxUrdfDepth) +
+                          " joints (kMaxUrdfDepth: urdfdom builds the tree recursively, and a "
+                          "tree integrator factors a mass matrix as large every step; "
+                          "doc/urdf.md#bounds)");
+        stack.emplace_back(child, depth + 1);
+      }
     }
   }
   for (const std::string& l : link_names_) {
@@ -412,6 +450,48 @@ std::optional<Error> Reader::checkTree() const {
   return std::nullopt;
 }
 
+std::optional<Error> Reader::checkMimics() const {
+  for (const JointEdge& edge : edges_) {
+    const JointXml& j = out_.joints.at(edge.name);
+    if (!j.mimic) continue;
+    const std::string owner = "joint " + inQuotes(edge.name);
+    const MimicXml& m = *j.mimic;
+    const auto leader = out_.joints.find(m.joint);
+    if (leader == out_.joints.end())
+      return fail(m.line, owner + ": <mimic joint=" + inQuotes(m.joint) + ">: no joint named " +
+                              inQuotes(m.joint) +
+                              " (a mimic joint follows another joint of "
+                              "the robot)");
+    if (m.joint == edge.name)
+      return fail(m.line, owner +
+                              ": <mimic> names the joint itself: a joint cannot follow "
+                              "its own position");
+    if (!leader->second.type)
+      return fail(m.line, owner + ": <mimic joint=" + inQuotes(m.joint) +
+                              ">: " + inQuotes(m.joint) +
+                              " is a fixed or floating joint, which has no "
+                              "position to follow (the leader must be revolute, continuous or "
+                              "prismatic)");
+    // Follow the chain of leaders: it must end at a joint without <mimic>.
+    std::vector<std::string> chain{edge.name};
+    for (std::string at = m.joint;;) {
+      if (std::find(chain.begin(), chain.end(), at) != chain.end()) {
+        std::string names;
+        for (const std::string& c : chain) names += (names.empty() ? "" : " -> ") + inQuotes(c);
+        return fail(m.line, "the mimic joints " + names + " -> " + inQuotes(at) +
+                                " form a cycle: no joint among them moves on its own (one of "
+                                "them must have no <mimic>)");
+      }
+      chain.push_back(at);
+      const JointXml& next = out_.joints.at(at);
+      if (!next.mimic) break;
+      at = next.mimic->joint;
+      if (!out_.joints.count(at)) break;  // reported for that joint
+    }
+  }
+  return std::nullopt;
+}
+
 Result<UrdfXml> Reader::read(const std::string& xml) {
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.data(), xml.size());
@@ -434,9 +514,19 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
   out_.robot_name = robot_name;
   int order = 0;
   for (const XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement(), ++order) {
-    if (std::strcmp(e->Name(), "link") == 0) {
+    const bool is_link = std::strcmp(e->Name(), "link") == 0;
+    const bool is_joint = std::strcmp(e->Name(), "joint") == 0;
+    const std::size_t count = is_link ? out_.links.size() : out_.joints.size();
+    if ((is_link || is_joint) && count >= static_cast<std::size_t>(kMaxUrdfLinks))
+      return fail(e->GetLineNum(), "the robot has more than " + std::to_string(kMaxUrdfLinks) +
+                                       (is_link ? " links" : " joints") +
+                                       "; the loader reads at most " +
+                                       std::to_string(kMaxUrdfLinks) +
+                                       " (kMaxUrdfLinks: a scene that size takes about 1.4 GB "
+                                       "to load; doc/urdf.md#bounds)");
+    if (is_link) {
       if (auto err = readLink(e, order)) return *err;
-    } else if (std::strcmp(e->Name(), "joint") == 0) {
+    } else if (is_joint) {
       if (auto err = readJoint(e, order)) return *err;
     } else if (std::strcmp(e->Name(), "gazebo") == 0) {
       readGazebo(e);
@@ -446,6 +536,7 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
   if (xml.find(kExtensionPrefix) != std::string::npos)
     if (auto err = checkExtensionPlacement(robot)) return *err;
   if (auto err = checkTree()) return *err;
+  if (auto err = checkMimics()) return *err;
   if (auto err = applyGazeboFriction()) return *err;
   for (const auto& [link, line] : self_collide_lines_)
     if (!out_.links.count(link))

@@ -61,9 +61,19 @@ struct LinkXml {
   std::vector<CollisionGeometry> collisions;  ///< every <collision>, in document order
 };
 
+/// <mimic joint="…" multiplier="…" offset="…"/> of a joint, as written (multiplier default 1,
+/// offset default 0, as URDF says).
+struct MimicXml {
+  std::string joint;
+  double multiplier = 1.0;
+  double offset = 0.0;
+  int line = 0;
+};
+
 struct JointXml {
   int order = 0;
   int line = 0;
+  std::optional<MimicXml> mimic;
   /// Set for a revolute, continuous or prismatic joint (then the fields below are read and
   /// checked); unset for fixed and floating joints, whose <axis>, <limit> and <dynamics> the
   /// loader does not use.

@@ -317,13 +317,16 @@ double bodyChange(const SolverWork& work, const SolverWork::Island& I) {
 // path to the base, and the base's six).
 void pointJacobian(const SolverTree& T, int b, const Eigen::Vector3d& p,
                    Eigen::Matrix<double, 3, Eigen::Dynamic>& J) {
-  J.setZero(3, T.twist.cols());
-  const auto column = [&](int j) {
-    J.col(j) = T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p);
-  };
+  J.setZero(3, T.M.cols());
   const int base = T.floating ? 6 : 0;
-  for (int x = b; x > 0; x = T.parent[x]) column(base + x - 1);
-  for (int j = 0; j < base; ++j) column(j);
+  // A joint's column goes to its coordinate's, times its multiplier (mimic joints; else itself).
+  for (int x = b; x > 0; x = T.parent[x]) {
+    const int j = base + x - 1;
+    J.col(T.column[x - 1]) +=
+        T.multiplier[x - 1] * (T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p));
+  }
+  for (int j = 0; j < base; ++j)
+    J.col(j) = T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p);
 }
 
 // A tangent basis of the plane ⟂ n (any; the friction cone is circular).

@@ -64,9 +64,9 @@ struct SolverTree {
   /// momentum nor, being projections in the metric of M, raise its kinetic energy). The
   /// position correction keeps q + h (ν_k + pν_k) within the same limits the same way.
   struct LimitRow {
-    int index = 0;                      ///< velocity index
-    double q = 0.0;                     ///< the joint's position at the step's start
-    double lower = 0.0, upper = 0.0;    ///< its limits (±∞ where it has none)
+    int index = 0;                        ///< velocity index
+    double q = 0.0;                       ///< the joint's position at the step's start
+    double lower = 0.0, upper = 0.0;      ///< its limits (±∞ where it has none)
     double y_lower = 0.0, y_upper = 0.0;  ///< accumulated impulses (velocity solve)
     double p_lower = 0.0, p_upper = 0.0;  ///< accumulated pseudo-impulses (position correction)
     double a = 0.0;                       ///< (M⁻¹)_kk; 0 until the column is made
@@ -81,6 +81,10 @@ struct SolverTree {
   std::vector<int> parent;                         ///< per tree body: its parent (−1 for body 0)
   bool floating = false;                           ///< the base's 6 coordinates come first
   std::vector<LimitRow> limits;                    ///< every joint with a position limit
+  /// Per joint: the column of ν its rate is (a mimic joint: its leader's) and its multiplier
+  /// (1 for an independent joint): ν, M and the solver are on the independent coordinates.
+  std::vector<int> column;
+  std::vector<double> multiplier;
 };
 
 /// One contact in the solver: its bodies' slots (−1: immovable or a tree side), lever arms,
@@ -132,8 +136,8 @@ struct ContactRow {
 };
 
 struct SolverSettings {
-  double h = 0.001;         ///< step, s
-  double kick = 0.0;        ///< |g| h, m/s
+  double h = 0.001;   ///< step, s
+  double kick = 0.0;  ///< |g| h, m/s
   /// g h, world axes, m/s: what the step's kick added to every free body's velocity (the
   /// compliant contacts' damping reads the velocity before it).
   Eigen::Vector3d gravity_kick_W = Eigen::Vector3d::Zero();
@@ -141,10 +145,10 @@ struct SolverSettings {
   /// Approaches slower than this (after the step's kick) do not bounce, m/s: rest_speed plus
   /// what the kick adds, so a landing too slow to bounce does not bounce here either.
   double bounce_speed = 0.0;
-  double slop = 5e-5;            ///< overlap left uncorrected, m
-  double touching = 1e-9;        ///< gaps below this are contact, m
-  double correction = 0.2;       ///< fraction of the overlap beyond slop removed per step
-  int max_iterations = 100;      ///< Gauss–Seidel sweeps at most
+  double slop = 5e-5;        ///< overlap left uncorrected, m
+  double touching = 1e-9;    ///< gaps below this are contact, m
+  double correction = 0.2;   ///< fraction of the overlap beyond slop removed per step
+  int max_iterations = 100;  ///< Gauss–Seidel sweeps at most
   /// … for an island with an articulated tree. Gauss–Seidel converges slowly where a tree's
   /// contacts and joint stops share its load through M(q): a humanoid lying on the floor on its
   /// joints' stops gains ~0.2 % a sweep, so no cap reaches the tolerance there, and a hundred

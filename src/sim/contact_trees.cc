@@ -21,6 +21,7 @@ struct Scratch {
   dynamics::TreeState state;
   dynamics::BodyMoments f;
   Eigen::VectorXd nu_dot, M_nu_dot;
+  Eigen::MatrixXd M_r;
 };
 Scratch& scratch() {
   static thread_local Scratch s;
@@ -94,7 +95,6 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu += h * S.nu_dot;
 
   dynamics::massMatrix(tree, S.kin, out.M);
-  out.llt.compute(out.M);
   // The scale of the energy guard's tolerance (stage_trees.cc): symplectic Euler's error over
   // one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
   {
@@ -103,6 +103,21 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
     const double T = dynamics::kineticEnergy(tree, S.kin);
     S.M_nu_dot.noalias() = out.M * S.nu_dot;
     td.contact_energy_slack = h * h * S.nu_dot.dot(S.M_nu_dot) + (h * rate) * (h * rate) * T;
+  }
+  // With mimic joints the solver works on the independent coordinates ν_r: M_r = Gᵀ M G, and
+  // each joint's twist goes into its coordinate's column with its multiplier (pointJacobian).
+  if (tree.hasMimic()) {
+    dynamics::reduceVelocity(tree, out.nu, S.nu_dot);
+    out.nu = S.nu_dot;
+    dynamics::reduceMatrix(tree, out.M, S.M_r);
+    out.M = S.M_r;
+  }
+  out.llt.compute(out.M);
+  out.column.resize(tree.jointCount());
+  out.multiplier.resize(tree.jointCount());
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    out.column[k] = tree.reducedIndex(k);
+    out.multiplier[k] = tree.mimicMultiplier(k);
   }
   const int n = tree.velocityCount();
   out.twist.resize(6, n);
@@ -122,26 +137,28 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.parent.resize(tree.bodyCount());
   out.parent[0] = -1;
   for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
-  // Every joint with a position limit: a row the solver keeps within it (its column M⁻¹ e_k is
-  // made only when the row acts). The rows keep their storage from step to step.
+  // Every coordinate with a position limit: a row the solver keeps within it (its column
+  // M⁻¹ e_k is made only when the row acts). With mimic joints the coordinates are the
+  // independent joints', with their followers' limits mapped onto them. The rows keep their
+  // storage from step to step.
   std::size_t rows = 0;
-  for (const dynamics::TreeJoint& j : tree.joints()) rows += j.hasLimits() ? 1 : 0;
+  for (const dynamics::JointCoordinate& c : tree.coordinates()) rows += c.hasLimits() ? 1 : 0;
   out.limits.resize(rows);
   rows = 0;
-  for (int k = 0; k < tree.jointCount(); ++k) {
-    const dynamics::TreeJoint& j = tree.joints()[k];
-    if (!j.hasLimits()) continue;
+  for (const dynamics::JointCoordinate& c : tree.coordinates()) {
+    if (!c.hasLimits()) continue;
     SolverTree::LimitRow& r = out.limits[rows++];
-    r.index = tree.velocityIndex(k);
-    r.q = td.state.q[k];
-    r.lower = j.lower;
-    r.upper = j.upper;
+    r.index = tree.reducedIndex(c.joint);
+    r.q = td.state.q[c.joint];
+    r.lower = c.lower;
+    r.upper = c.upper;
     r.y_lower = r.y_upper = r.p_lower = r.p_upper = 0.0;
     r.a = 0.0;  // no column yet
   }
 
   S.state = td.state;
-  dynamics::setVelocityVector(tree, out.nu, S.state);
+  dynamics::expandVelocity(tree, out.nu, S.nu_dot);
+  dynamics::setVelocityVector(tree, S.nu_dot, S.state);
   dynamics::treeKinematics(tree, S.state, kicked);
   // The kick's work: what it adds to the kinetic energy, to the bit for a constant effort
   // (½ m (v'² − v²) = h F (v + v')/2), against which the energy guard measures the contacts.
@@ -151,8 +168,11 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
 void takeTreeImpulses(const SolverTree& solved, TreeData& td,
                       const dynamics::ArticulatedBody& tree) {
-  dynamics::setVelocityVector(tree, solved.nu, td.state);
-  td.contact_shift = solved.pnu;
+  // (ν and pν on the independent coordinates: every joint's from them.)
+  Scratch& S = scratch();
+  dynamics::expandVelocity(tree, solved.nu, S.nu_dot);
+  dynamics::setVelocityVector(tree, S.nu_dot, td.state);
+  dynamics::expandVelocity(tree, solved.pnu, td.contact_shift);
   td.contact_kicked = true;
   td.integrator->reset();
 }

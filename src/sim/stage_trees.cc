@@ -117,6 +117,7 @@ double endContactStep(const Model& model, Data& data, int t) {
         const dynamics::TreeJoint& j = tree.joints()[k];
         if (j.hasLimits()) s.q[k] = std::clamp(s.q[k], j.lower, j.upper);
       }
+      if (tree.hasMimic()) dynamics::applyMimicPositions(tree, s.q);  // followers on leaders
     };
     moveBy(1.0, moved);
     dynamics::treeKinematics(tree, moved, kin);

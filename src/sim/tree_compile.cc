@@ -3,6 +3,7 @@
 #include "tree_compile.h"
 
 #include <cmath>
+#include <unordered_map>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "cga_rigid_sim/sim/model.h"
@@ -60,7 +61,30 @@ std::optional<Error> compileTrees(Model& model) {
   };
   std::vector<Building> trees;
   const double lambda = model.lambda;
-  for (int sj = 0; sj < static_cast<int>(model.scene.joints.size()); ++sj) {
+  // Joints on the ground (the world or a static body) each start a fixed-base tree of their
+  // own, except that joints coupled by <mimic> share one (a gripper's fingers on a fixed palm):
+  // the sets of joints connected by parenthood and mimic, by union–find over scene joints.
+  const int joint_count = static_cast<int>(model.scene.joints.size());
+  std::vector<int> set(joint_count), joint_of_child(model.scene.bodies.size(), -1);
+  for (int sj = 0; sj < joint_count; ++sj) {
+    set[sj] = sj;
+    const int child = model.scene.joints[sj].child_body;
+    if (child >= 0 && child < static_cast<int>(joint_of_child.size())) joint_of_child[child] = sj;
+  }
+  const auto find = [&](int x) {
+    while (set[x] != x) x = set[x] = set[set[x]];
+    return x;
+  };
+  for (int sj = 0; sj < joint_count; ++sj) {
+    const scene::JointModel& j = model.scene.joints[sj];
+    if (j.parent_body >= 0 && j.parent_body < static_cast<int>(joint_of_child.size()) &&
+        joint_of_child[j.parent_body] >= 0)
+      set[find(sj)] = find(joint_of_child[j.parent_body]);
+    if (j.mimic && j.mimic->leader >= 0 && j.mimic->leader < joint_count)
+      set[find(sj)] = find(j.mimic->leader);
+  }
+  std::unordered_map<int, int> ground_tree;  // a set's fixed-base tree
+  for (int sj = 0; sj < joint_count; ++sj) {
     const scene::JointModel& j = model.scene.joints[sj];
     if (auto e = checkJoint(model, j)) return e;
     const int child = model.moving_of_body[j.child_body];
@@ -70,10 +94,11 @@ std::optional<Error> compileTrees(Model& model) {
     dynamics::TreeJoint tj;
     tj.M_PJ = j.M_PJ;
     int tree = -1;
-    if (parent_moving < 0) {  // the world or a static body: a new fixed-base tree
+    if (parent_moving < 0) {  // the world or a static body: a fixed-base tree, new or its set's
       if (j.parent_body >= 0) tj.M_PJ = model.scene.bodies[j.parent_body].M_WB0 * j.M_PJ;
-      tree = static_cast<int>(trees.size());
-      trees.push_back({j.parent_link, -1, {}, {}, {}, {}, {}});
+      const auto [it, added] = ground_tree.emplace(find(sj), static_cast<int>(trees.size()));
+      tree = it->second;
+      if (added) trees.push_back({j.parent_link, -1, {}, {}, {}, {}, {}});
       tj.parent = 0;
     } else if (model.tree_of_moving[parent_moving] >= 0) {  // further down a tree
       tree = model.tree_of_moving[parent_moving];
@@ -108,6 +133,27 @@ std::optional<Error> compileTrees(Model& model) {
     model.joint_by_name[j.name] = {tree, static_cast<int>(t.joints.size()) - 1};
   }
   (void)lambda;
+  // Mimic joints: the leader's place in the same tree (the loader refuses other cases).
+  for (int tree = 0; tree < static_cast<int>(trees.size()); ++tree) {
+    Building& t = trees[tree];
+    for (std::size_t k = 0; k < t.joints.size(); ++k) {
+      const scene::JointModel& j = model.scene.joints[t.scene_joint[k]];
+      if (!j.mimic) continue;
+      const auto leader = j.mimic->leader >= 0 && j.mimic->leader < joint_count
+                              ? model.joint_by_name.find(model.scene.joints[j.mimic->leader].name)
+                              : model.joint_by_name.end();
+      if (leader == model.joint_by_name.end() || leader->second.first != tree ||
+          model.scene.joints[j.mimic->leader].mimic)
+        return Error("scene", "joint '" + j.name + "'",
+                     "<mimic>: its leader must be an independent joint of the same tree");
+      if (!std::isfinite(j.mimic->multiplier) || !std::isfinite(j.mimic->offset))
+        return Error("scene", "joint '" + j.name + "'",
+                     "<mimic>: multiplier and offset must be finite");
+      t.joints[k].mimic = leader->second.second;
+      t.joints[k].mimic_multiplier = j.mimic->multiplier;
+      t.joints[k].mimic_offset = j.mimic->offset;
+    }
+  }
   for (Building& t : trees) {
     std::optional<dynamics::Inertia> base;
     if (t.base_moving >= 0) base = model.moving[t.base_moving].inertia;
@@ -121,6 +167,7 @@ std::optional<Error> compileTrees(Model& model) {
     }
     s.q = Eigen::Map<const Eigen::VectorXd>(t.q0.data(), t.q0.size());
     s.v = Eigen::Map<const Eigen::VectorXd>(t.v0.data(), t.v0.size());
+    dynamics::applyMimic(tm.body, s);  // (the scene's followers agree; exact to the same rounding)
     // Every link's initial state from the joints (the scene's M_WB0 agrees; Ω from q̇).
     dynamics::TreeKinematics kin;
     dynamics::treeKinematics(tm.body, s, kin);

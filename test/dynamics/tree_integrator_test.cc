@@ -13,6 +13,7 @@
 
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "common/random_trees.h"
+#include "common/tree_fixtures.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -57,19 +58,8 @@ TreeState jointState(std::initializer_list<double> q, std::initializer_list<doub
   return s;
 }
 
-// Kinetic plus potential energy (potential −Σ m g·x of the centres of mass).
-double energy(const ArticulatedBody& tree, const TreeState& s, const Vector3d& g) {
-  TreeKinematics kin;
-  treeKinematics(tree, s, kin);
-  double V = 0.0;
-  for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
-    V -= tree.inertiaOf(b).mass() * g.dot(kin.M_W[b].translation(kLambda));
-  return kineticEnergy(tree, kin) + V;
-}
-
-std::unique_ptr<TreeIntegrator> make(const std::string& name) {
-  return std::move(makeTreeIntegrator(name).value());
-}
+const auto energy = testing::treeEnergy;
+const auto make = testing::treeIntegrator;
 
 // Period of a compound pendulum at amplitude θ0: T = 4 √(I_p/(m g d)) K(sin(θ0/2)), I_p its
 // moment about the pivot, d the pivot–CoM distance (the simple pendulum with L = I_p/(m d)).

@@ -108,7 +108,16 @@ class BadInputsTest(unittest.TestCase):
         nan_pose.position.z = NAN
         self.refused_service(sim.spawn, 'cube', GOOD_URDF, nan_pose, Twist())
         self.refused_service(sim.delete, 'no_such_body')
-        expected = len(bad_topics) + 10
+        # A chain of 200 000 links (9 MB) once overflowed urdfdom's recursive tree building and
+        # killed the node: the loader's depth bound refuses it before urdfdom sees the text.
+        chain = ['<robot name="chain"><link name="l0"/>']
+        for k in range(1, 200000):
+            chain.append('<joint name="j%d" type="fixed"><parent link="l%d"/><child link="l%d"/>'
+                         '</joint><link name="l%d"/>' % (k, k - 1, k, k))
+        chain.append('</robot>')
+        message = self.refused_service(sim.spawn, 'chain', ''.join(chain), unit_pose(), Twist())
+        self.assertIn('kMaxUrdfDepth', message)
+        expected = len(bad_topics) + 11
         self.assertEqual(sim.rejected, expected)
 
         # A failed query is answered but is not an input: not counted.

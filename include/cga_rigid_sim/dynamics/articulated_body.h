@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "cga_rigid_sim/cga/bivelocity.h"
@@ -47,11 +48,44 @@ struct TreeJoint {
   double lower = -std::numeric_limits<double>::infinity();  ///< position limits
   double upper = std::numeric_limits<double>::infinity();
   double effort_limit = std::numeric_limits<double>::infinity();
+  /// A mimic joint (URDF <mimic>) follows joint `mimic` of the same tree exactly:
+  /// q = mimic_multiplier · q_mimic + mimic_offset (and q̇, q̈ likewise). −1: an independent
+  /// joint. The joint it follows must itself be independent (chains resolved by the loader).
+  int mimic = -1;
+  double mimic_multiplier = 1.0;
+  double mimic_offset = 0.0;
   bool hasLimits() const {
     return lower > -std::numeric_limits<double>::infinity() ||
            upper < std::numeric_limits<double>::infinity();
   }
 };
+
+/// One independent joint coordinate of a tree with mimic joints (doc/articulated.md#mimic-joints):
+/// the joint that carries it and what the joints that follow it impose on it — the
+/// intersection of their position limits mapped to it, their Coulomb friction and their
+/// damping (friction Σ |m_k| F_k, damping Σ m_k² c_k: the same power as the joints'). Without
+/// mimic joints, each joint's own.
+struct JointCoordinate {
+  int joint = 0;
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
+  double friction = 0.0;
+  double damping = 0.0;
+  bool hasLimits() const {
+    return lower > -std::numeric_limits<double>::infinity() ||
+           upper < std::numeric_limits<double>::infinity();
+  }
+};
+
+/// The positions of a leader that keep its follower (q = m q_leader + o) within the follower's
+/// limits [lower, upper]: [(lower − o)/m, (upper − o)/m], ordered by the sign of m; the whole
+/// line when m = 0 (the follower stays at o) — its limits must then hold o.
+inline std::pair<double, double> leaderLimits(double lower, double upper, double m, double o) {
+  if (m == 0.0)
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  const double a = (lower - o) / m, b = (upper - o) / m;
+  return m > 0 ? std::make_pair(a, b) : std::make_pair(b, a);
+}
 
 /// The constant part of a tree.
 class ArticulatedBody {
@@ -70,6 +104,24 @@ class ArticulatedBody {
   int velocityCount() const { return (floating() ? 6 : 0) + jointCount(); }
   /// Where joint k's rate sits in ν.
   int velocityIndex(int k) const { return (floating() ? 6 : 0) + k; }
+
+  // Mimic joints make the tree's motion a subspace of ν: ν = G ν_r, with ν_r = (Ω_0, the rates
+  // of the independent joints) and G's column of an independent joint holding 1 at that joint
+  // and each follower's multiplier at the follower. Every solve of the tree's motion (its
+  // integrators, contacts, impulses) works on ν_r with M_r = Gᵀ M G and forces Gᵀ f; this is
+  // the one place that says where a joint's rate sits in ν_r. Without mimic joints G = 1.
+  bool hasMimic() const { return has_mimic_; }
+  /// Reduced velocity coordinates: (6 +) the independent joints.
+  int reducedCount() const { return (floating() ? 6 : 0) + static_cast<int>(coordinates_.size()); }
+  /// Where the rate that moves joint k (its own, or its leader's) sits in ν_r.
+  int reducedIndex(int k) const { return (floating() ? 6 : 0) + coordinate_of_[k]; }
+  /// q_k = mimicMultiplier(k) q_leader + mimicOffset(k) (1 and 0 for an independent joint).
+  double mimicMultiplier(int k) const {
+    return joints_[k].mimic < 0 ? 1.0 : joints_[k].mimic_multiplier;
+  }
+  double mimicOffset(int k) const { return joints_[k].mimic < 0 ? 0.0 : joints_[k].mimic_offset; }
+  /// The independent coordinates, in joint order (coordinate c sits at (6 +) c in ν_r).
+  const std::vector<JointCoordinate>& coordinates() const { return coordinates_; }
   /// Joint k's unit screw in J, S = (axis, 0) or (0, axis/λ).
   const cga::Bivelocity& screwInJoint(int k) const { return S_J_[k]; }
   /// Joint k's screw in its child's frame, s = M_JC⁻¹ S M_JC (constant: the joint motion
@@ -88,6 +140,9 @@ class ArticulatedBody {
   double lambda_ = 1.0;
   std::vector<cga::Bivelocity> S_J_, s_C_;
   std::vector<cga::Motor> M_PC_;
+  bool has_mimic_ = false;
+  std::vector<int> coordinate_of_;  // per joint: its independent coordinate
+  std::vector<JointCoordinate> coordinates_;
 };
 
 /// The changing part of a tree: base pose and velocity (a fixed base keeps M_W0 = 1, Ω_0 = 0),
@@ -124,6 +179,27 @@ void treeVelocities(const ArticulatedBody& tree, const TreeState& state, TreeKin
 Eigen::VectorXd velocityVector(const ArticulatedBody& tree, const TreeState& state);
 void setVelocityVector(const ArticulatedBody& tree, const Eigen::VectorXd& nu, TreeState& state);
 
+/// Mimic joints (ArticulatedBody::hasMimic): ν = G ν_r. `nu` and `f` have velocityCount()
+/// entries, `nu_r`, `f_r` and `M_r` reducedCount(). All are the identity (copies) without mimic
+/// joints; none allocates once its output has its size.
+/// ν = G ν_r: the followers' rates are their multipliers times their leaders'.
+void expandVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu_r, Eigen::VectorXd& nu);
+/// ν_r of a ν that satisfies the mimic constraints: the base's and the independent joints' entries.
+void reduceVelocity(const ArticulatedBody& tree, const Eigen::VectorXd& nu, Eigen::VectorXd& nu_r);
+/// f_r = Gᵀ f: generalized forces, impulses or momenta on ν_r (the same power on ν = G ν_r).
+void reduceForce(const ArticulatedBody& tree, const Eigen::VectorXd& f, Eigen::VectorXd& f_r);
+/// The joints' part alone: `f` per joint (jointCount()), `f_r` per independent coordinate (sized).
+void reduceJointForce(const ArticulatedBody& tree, Eigen::Ref<const Eigen::VectorXd> f,
+                      Eigen::Ref<Eigen::VectorXd> f_r);
+/// M_r = Gᵀ M G: the mass matrix (or any symmetric matrix on ν) on ν_r.
+void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r);
+/// Puts every follower where its leader says: q_k = m q_l + o, q̇_k = m q̇_l (bit-exact, so that
+/// the constraints hold to the rounding of that one expression), then within its own limits
+/// (which the leader's coordinate limits keep it in, up to that rounding).
+void applyMimic(const ArticulatedBody& tree, TreeState& state);
+/// The positions alone: q_k = m q_l + o for every follower, within its limits.
+void applyMimicPositions(const ArticulatedBody& tree, Eigen::VectorXd& q);
+
 /// The external trivector moments on each body (body frame, about its centre of mass): what
 /// gravity and applied loads exert; size bodyCount() (entry 0 unused for a fixed base).
 using BodyMoments = std::vector<cga::Moment>;
@@ -141,6 +217,8 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
                                 const BodyMoments& f_ext);
 
 /// ABA: the accelerations ν̇ under joint efforts `tau` (size n) and external moments, O(n).
+/// With mimic joints the accelerations the constraints allow, ν̇ = G M_r⁻¹ Gᵀ (τ − b), from the
+/// CRBA and the RNEA instead (ABA's recursion cannot hold a constraint between branches).
 Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& state,
                                 const TreeKinematics& kin, const Eigen::VectorXd& tau,
                                 const BodyMoments& f_ext);

@@ -80,7 +80,8 @@ const std::vector<std::string>& treeIntegratorNames();
 Result<std::unique_ptr<TreeIntegrator>> makeTreeIntegrator(const std::string& name);
 
 /// The generalized velocity change Δν = M(q)⁻¹ (J_bᵀ T) of an impulsive moment T (body frame
-/// of body b) on a tree at rest in its pose: what an impulse does to the tree.
+/// of body b) on a tree at rest in its pose: what an impulse does to the tree (with mimic
+/// joints G M_r⁻¹ Gᵀ J_bᵀ T, a change the constraints allow).
 Eigen::VectorXd impulseResponse(const ArticulatedBody& tree, const TreeState& state, int body,
                                 const cga::Moment& T_b);
 

@@ -12,7 +12,10 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cga_rigid_sim/cga/motor.h"
 
@@ -33,6 +36,18 @@ struct JointLimits {
   double velocity = std::numeric_limits<double>::infinity();
 };
 
+/// URDF <mimic joint multiplier offset>: the joint follows another joint of its tree exactly,
+/// q = multiplier · q_leader + offset (and its rate likewise), as an equality constraint of the
+/// tree's motion (doc/urdf.md#mimic-joints). A chain of mimics (a follower of a follower) is
+/// resolved to its end: `leader` never mimics another joint, and the multipliers and offsets
+/// along the chain are composed.
+struct JointMimic {
+  int leader = -1;          ///< Scene::joints index of the independent joint followed
+  double multiplier = 1.0;  ///< composed along the chain
+  double offset = 0.0;      ///< rad or m, composed along the chain
+  std::string written;      ///< the joint the URDF's <mimic joint=…> names (for messages)
+};
+
 struct JointModel {
   std::string name;
   JointType type = JointType::kRevolute;
@@ -51,7 +66,18 @@ struct JointModel {
   double friction = 0.0;          ///< <dynamics friction>, N m or N, ≥ 0 (Coulomb)
   double initial_position = 0.0;  ///< q at t = 0 (rad or m): ~initial_state, clamped to limits
   double initial_velocity = 0.0;  ///< q̇ at t = 0
+  /// Set for a mimic joint; its initial position and velocity then follow its leader's.
+  std::optional<JointMimic> mimic;
 };
+
+/// The positions the leader `joint` can take with every joint that mimics it within its own
+/// limits: the leader's limits intersected with each follower's mapped through
+/// (limit − offset) / multiplier. [lower, upper]; lower > upper when the constraints cannot be
+/// met; ±∞ where nothing bounds it.
+std::pair<double, double> mimicRange(const std::vector<JointModel>& joints, int joint);
+/// Every mimic joint's initial position and velocity from its leader's
+/// (q0 = multiplier · q0_leader + offset, clamped into its limits against rounding).
+void followLeaders(std::vector<JointModel>& joints);
 
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -1,6 +1,7 @@
-// Triangle meshes for mass properties from geometry: small readers for STL (ASCII and binary)
-// and Wavefront OBJ, and the check that a mesh encloses a volume (closed, consistently
-// oriented), which the surface integrals of mass_properties.h need.
+// Triangle meshes for collision shapes and mass properties from geometry: small readers for STL
+// (ASCII and binary) and Wavefront OBJ, assimp for the other formats, and the check that a mesh
+// encloses a volume (closed, consistently oriented), which the surface integrals of
+// mass_properties.h need.
 #pragma once
 
 #include <Eigen/Core>
@@ -21,10 +22,15 @@ struct TriangleMesh {
 };
 
 /// Reads an STL (binary or ASCII, told apart by the binary size rule 84 + 50 n bytes) or an OBJ
-/// (by extension .obj, case-insensitive) file. Vertices with identical coordinates are merged
-/// (STL stores each triangle's corners separately). Polygons of an OBJ are split into fans.
-/// Errors name the file and the line or triangle.
-Result<TriangleMesh> readMeshFile(const std::string& path);
+/// (by extension .obj, case-insensitive) file with the readers below, and every other format
+/// (Collada .dae, PLY, glTF, …) through assimp: the triangles with each node's transform, a
+/// Collada file in metres (its <unit meter>) with its <up_axis> turned to +z. Vertices with
+/// identical coordinates are merged (STL stores each triangle's corners separately). Polygons
+/// are split into triangles. Errors name the file and the line or triangle, or assimp's reason.
+/// `notes` (may be null) gets what the reading changed that the user should know (a Collada
+/// up axis other than Z_UP).
+Result<TriangleMesh> readMeshFile(const std::string& path,
+                                  std::vector<std::string>* notes = nullptr);
 /// The same from memory; `name` is used in messages.
 Result<TriangleMesh> readStl(const std::string& bytes, const std::string& name);
 Result<TriangleMesh> readObj(const std::string& text, const std::string& name);

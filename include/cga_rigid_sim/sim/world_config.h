@@ -104,8 +104,8 @@ struct WorldConfig {
   /// Threads that integrate the bodies (≥ 1; the node's ~threads). States do not depend on it:
   /// they are bit-identical for any count (sim/worker_pool.h).
   int threads = 1;
-  /// For URDFs loaded by spawnUrdf (the node's ~relax_inertia).
-  dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kRefuse;
+  /// For URDFs loaded by spawnUrdf (the node's ~relax_inertia; scene::SceneOptions).
+  dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kNearestPhysical;
   /// The ground plane; none when unset.
   std::optional<GroundPlane> ground_plane;
   /// μ and e of every surface that does not set its own (the node's ~contact_mu,
