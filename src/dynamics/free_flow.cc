@@ -466,7 +466,7 @@ inline void setAnchor(FreeFlowCache& c, double h) {
 // r and w_new come in as the anchor's (they stay so on the still path). With `runs`, the
 // elliptic path takes the steps of a run by the addition theorems (E32); without, every
 // call evaluates from the anchor (E29), so the result depends on t alone.
-// Inlined into both callers: the step's hot path lost ~10 ns as a call.
+// Inlined into both callers: it is on the step's hot path (doc/decisions.md).
 __attribute__((always_inline)) inline void attitudeAt(FreeFlowCache& c, double t, double h,
                                                       bool runs, Eigen::Quaterniond& r,
                                                       Eigen::Vector3d& w_new) {
