@@ -142,7 +142,7 @@ struct WorldConfig {
   /// constant curvature, > 0 the 3-sphere, < 0 hyperbolic space; unset = Euclidean space. The
   /// bodies then move "1 up" (dynamics/curved_integrator.h) and are reported in the
   /// stereographic chart. Free bodies only, with gravity off; integrators auto, curved2,
-  /// curved_exact; no contacts, wrenches, impulses, state edits or spawning yet.
+  /// curved_exact; wrenches and impulses act 1 up; no contacts, state edits or spawning yet.
   std::optional<double> curvature;
 };
 
