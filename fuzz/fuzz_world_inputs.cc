@@ -370,7 +370,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (snapshot(world) != before)
         fuzz::fail(what + " was refused (" + result.error() + ") but changed the world");
     }
-    // The baselines euler and rk4 blow up on fast spins (README "Integrators"; the bounds allow
+    // The baselines euler and rk4 blow up on fast spins (doc/integrators.md; the bounds allow
     // 1e9 rad/s at any dt): a step that overflows ends the input for them, not for the others.
     if (what == "step" && (config.integrator == "euler" || config.integrator == "rk4") &&
         !finite(world))

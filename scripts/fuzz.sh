@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Build the libFuzzer targets (fuzz/, README "Fuzzing") with clang and run each one.
+# Build the libFuzzer targets (fuzz/, doc/fuzzing.md) with clang and run each one.
 #
 #   scripts/fuzz.sh [--seconds N | --runs N] [--target NAME]... [--junit DIR] [--build-only]
 #

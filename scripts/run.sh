@@ -53,9 +53,9 @@ run.sh: the simulator runs (roslaunch cga_rigid_sim sim.launch $*). In another t
   scripts/plot_bag.py run.bag run.png                     # its energy, |L|, |P| and drift
 With rviz from the start: bash scripts/run.sh gravity:="[0, 0, 0]" rviz:=true
 Other scenes: bash scripts/run.sh scene:=thin_rod (symmetric_top, dumbbell, projectile,
-t_handle, many_bodies); every sim.launch argument works. README: "The simulator node".
+t_handle, many_bodies); every sim.launch argument works. doc/node.md: the node's reference.
 Articulated robots: scene:=double_pendulum, scene:=arm7, scene:=satellite gravity:="[0, 0, 0]";
-  rostopic echo /joint_states; README: "Articulated robots".
+  rostopic echo /joint_states; doc/node.md: "Articulated robots".
 EOF
   }
   hints

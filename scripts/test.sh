@@ -5,7 +5,7 @@
 #
 # Each registered test target (gtest binary test_<layer>, rostest test/ros/<name>.test) runs
 # with a time limit (CGA_RIGID_SIM_TEST_TIMEOUT seconds, default 600); then each fuzz target of
-# fuzz/ runs for CGA_RIGID_SIM_FUZZ_SECONDS (default 45; scripts/fuzz.sh, README "Fuzzing").
+# fuzz/ runs for CGA_RIGID_SIM_FUZZ_SECONDS (default 45; scripts/fuzz.sh, doc/fuzzing.md).
 # JUnit results go to build/ws/build/test_results/; the last line printed is "N passed,
 # N failed" (test cases). Exit status is non-zero if a test failed, crashed, timed out or
 # produced no result, or if no test ran at all.
@@ -80,7 +80,7 @@ done
 end=$(date +%s)
 echo "test.sh: ${#targets[@]} test targets ran in $((end - start)) s"
 
-# The fuzz targets (README "Fuzzing"), a short run each: one test case per target, passed when
+# The fuzz targets (doc/fuzzing.md), a short run each: one test case per target, passed when
 # the run found no crash, leak or sanitizer report. 45 s each keeps the fuzz build (about 3 min
 # on 2 cores from a cold cache) and the four runs within 6 minutes. CGA_RIGID_SIM_FUZZ_SECONDS=0
 # skips them.

@@ -1,8 +1,8 @@
-// atan near zero, for the exact flow's per-step angle increments (free_flow.cc, point 7): the
-// third-kind integral's addition-theorem term and the turn of Θ are the atan of quantities of
-// the order of the phase step, which is small at small h. There, the Taylor series
-// x − x³/3 + x⁵/5 − …, written as x + x z P(z) (z = x²): a small correction to an exact leading
-// term, rounded about once. Two lengths:
+// atan near zero, for the exact flow's per-step angle increments (free_flow.cc;
+// doc/conventions.md (E32)): the third-kind integral's addition-theorem term and the turn of Θ
+// are the atan of quantities of the order of the phase step, which is small at small h. There,
+// the Taylor series x − x³/3 + x⁵/5 − …, written as x + x z P(z) (z = x²): a small correction to
+// an exact leading term, rounded about once. Two lengths:
 // - through x¹³ for |x| ≤ 1/16: the first omitted term x¹⁵/15 is below 2⁻⁵⁶/15 ≈ 1e-18
 //   relative to x;
 // - through x¹⁹ for |x| ≤ 1/8: the first omitted term x²¹/21 is below 2⁻⁶⁰/21 relative to x.

@@ -20,18 +20,17 @@ using elliptic::carlsonRJ;
 using elliptic::jacobiSnCnDn;
 
 // The cache is per body (free_flow.h): keep it from growing back unnoticed. 832 bytes on LP64
-// (8-byte double, 16-byte aligned Eigen 4-vectors), where it was 1184 with padding, copies of
-// x_W and v_W and the AGM table's a_j and 1/a_j.
+// (8-byte double, 16-byte aligned Eigen 4-vectors).
 static_assert(sizeof(void*) != 8 || sizeof(FreeFlowCache) <= 832,
               "FreeFlowCache grew: it is held per body by the exact and auto integrators");
 
 constexpr double kPi = 3.141592653589793;
 // Elliptic path: steps per run of the addition theorems, the first of them evaluated from the
-// anchor (point 7).
+// anchor (doc/conventions.md (E32)).
 constexpr int kRunLength = 32;
 // Phase steps δ = ω_p h up to this size advance sn, cn, dn by their addition theorems, and any
 // step when k'² is at least kWellConditionedKp2; other steps evaluate them from the anchor
-// (point 7).
+// (doc/conventions.md (E32)).
 constexpr double kSmallPhaseStep = 0.25;
 constexpr double kWellConditionedKp2 = 0.1;
 
@@ -166,7 +165,7 @@ void computeHalfPeriodGain(FreeFlowCache& c) {
   c.dpsi_half_ready = true;
 }
 
-// The constants of a step of h for the Π addition theorem (point 7): sn δ for δ = ω_p h, and
+// The constants of a step of h for the Π addition theorem (E32): sn δ for δ = ω_p h, and
 // P(δ) = Π(ν; am δ) − δ, from δ = 2K m + r, r ∈ [−K, K] (sn changes sign m times, P gains m
 // half-period gains).
 void buildStepConstants(double h, FreeFlowCache& c) {
@@ -242,7 +241,7 @@ void buildAsymmetric(const Eigen::Vector3d& J, const Eigen::Quaterniond& r,
   const double gamma = c.Ba * c.Bc * (Jc - Ja) / (Ja * Jc * c.omega_p * c.Bb);
   // The two characteristics n = −G/B_a² and N = k²/n = −B_a²/B_c² (nN = k² ≤ 1): use the
   // smaller in magnitude, so |ν| ≤ k and no coefficient below grows like 1/ω_p times an O(1)
-  // function (see the derivation, point 3).
+  // function (doc/conventions.md (E28)).
   c.dual = G * Bc2 > Ba2 * Ba2;
 
   // The phase of the current state: (sn, cn) ∝ (σ L_b/B_b, L_a/B_a); the sign ρ puts cn ≥ 0,
@@ -331,7 +330,7 @@ void build(const Inertia& inertia, const Eigen::Quaterniond& r, const Eigen::Vec
   }
 }
 
-// The phase at the elapsed time t from the anchor (point 4): τ = τ_a + ω_p t reduced by m half
+// The phase at the elapsed time t from the anchor (E29): τ = τ_a + ω_p t reduced by m half
 // periods to τ_r ∈ [−K, K], sn, cn, dn there (cn ≥ 0), and ρ; returns m.
 double phaseAt(FreeFlowCache& c, double t, double& sn, double& cn, double& dn) {
   double tau = c.tau_a + c.omega_p * t;
@@ -352,7 +351,7 @@ inline double continuedAngle(const FreeFlowCache& c, double m, double sn, double
   return c.dual ? angleTerm(c, sn, cn, dn) : m * kPi + angleTerm(c, sn, cn, dn);
 }
 
-// An evaluation from the anchor (point 4), which also starts a run of steps (point 7):
+// An evaluation from the anchor (E29), which also starts a run of steps (E32):
 // ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) − g_a, with R_J for Π.
 void evaluateFromAnchor(FreeFlowCache& c, double t, double& sn, double& cn, double& dn) {
   const double m = phaseAt(c, t, sn, cn, dn);
@@ -400,7 +399,7 @@ inline void advanceSmall(FreeFlowCache& c) {
   c.run_dn = dn;
 }
 
-// A step within a run (point 7). Π's part of ψ comes from the addition theorem instead of R_J:
+// A step within a run (E32). Π's part of ψ comes from the addition theorem instead of R_J:
 // P(τ) − P(τ_run) = j P(δ) − A Σ atan(…), summed over the run's steps, with sn, cn, dn signed as
 // continued from the anchor. For a small phase step δ, sn, cn, dn come from their own addition
 // theorems too (advanceSmall); otherwise from the anchor (phaseAt).
@@ -465,9 +464,9 @@ inline void setAnchor(FreeFlowCache& c, double h) {
 
 // The attitude r and body angular velocity w_new at the elapsed time t = k h from the anchor;
 // r and w_new come in as the anchor's (they stay so on the still path). With `runs`, the
-// elliptic path takes the steps of a run by the addition theorems (point 7); without, every
-// call evaluates from the anchor (point 4), so the result depends on t alone.
-// Inlined into both callers: the step's hot path lost ~10 ns as a call.
+// elliptic path takes the steps of a run by the addition theorems (E32); without, every
+// call evaluates from the anchor (E29), so the result depends on t alone.
+// Inlined into both callers: it is on the step's hot path (doc/decisions.md).
 __attribute__((always_inline)) inline void attitudeAt(FreeFlowCache& c, double t, double h,
                                                       bool runs, Eigen::Quaterniond& r,
                                                       Eigen::Vector3d& w_new) {
@@ -520,126 +519,11 @@ __attribute__((always_inline)) inline void attitudeAt(FreeFlowCache& c, double t
 
 }  // namespace
 
-// The exact torque-free flow.
-//
-// Notation: L = (J1 w1, J2 w2, J3 w3) the body angular momentum, ℓ = |L|, D = ℓ², E = 2T =
-// Σ L_i²/J_i. World L_W = R L_B is fixed; with Ṙ = R [w]× (ṙ = ½ r ⊗ (0, w): the rotor part of
-// Ṁ = −½ M Ω_B) that is Euler's equation in body axes, L̇ = L × w.
-//
-// 1. Body momentum (asymmetric, J1 < J2 < J3). D − E J2 = L3²(J3 − J2)/J3 − L1²(J2 − J1)/J1 says
-//    which axis the polhode circles: c = e3 if it is positive, c = e1 if negative. With b = e2
-//    and a the remaining axis, every solution is
-//      L_a = ρ B_a cn τ,  L_b = ρ σ B_b sn τ,  L_c = σ B_c dn τ,  τ = ω_p t + τ0,
-//      B_a² = L_a² + L_b² J_a(J_c − J_b)/(J_b(J_c − J_a)),
-//      B_b² = L_b² + L_a² J_b(J_c − J_a)/(J_a(J_c − J_b)),
-//      B_c² = L_c² + L_b² J_c(J_b − J_a)/(J_b(J_c − J_a)),
-//      ω_p² = (J_c − J_b)(D − E J_a)/(J_a J_b J_c),
-//      D − E J_a = L_b²(J_b − J_a)/J_b + L_c²(J_c − J_a)/J_c,
-//      k² B_c² = B_b² − B_a² = J_c(J_b − J_a)(L_a²/(J_a(J_c − J_b)) + L_b²/(J_b(J_c − J_a))),
-//      k'² = 1 − k² = (J_c − J_a)(D − E J_b)/((J_c − J_b)(D − E J_a)),
-//    with σ = sign L_c (L_c keeps its sign off the separatrix) and ρ = ±1. Substituting
-//    (sn' = cn dn, cn' = −sn dn, dn' = −k² sn cn) into L̇ = L × w gives three conditions, each one
-//    of the identities above; both orientations of (a, b, c) give the same formulas, because an
-//    odd permutation of the axes flips the cross product and the signs of all J-differences
-//    together. Every amplitude is a sum of non-negative terms and k'² is formed from D − E J_b
-//    directly, so nothing cancels, even as k → 1 (where k itself would round to 1: the elliptic
-//    functions below take k'² only). Also ℓ² = B_a² + B_c² and B_b² = B_a² + k² B_c². At t = 0,
-//    (sn, cn) ∝ (σ L_b/B_b, L_a/B_a) with ρ chosen so that cn ≥ 0, and τ0 = F(φ0, k) =
-//    sn R_F(cn², dn², 1).
-//
-// 2. Attitude. Take the fixed body axis u = σ e_c and let P(t) be the shortest rotation taking u
-//    to ℓ̂ = L_B/ℓ (defined throughout: u·ℓ̂ = B_c dn τ/ℓ > 0). Write
-//      R(t) = Q Z(ψ(t)) P(t)ᵀ,   Z(ψ) the rotation by ψ about u.
-//    Then R ℓ̂ = Q Z u = Q u for every ψ: with ψ(0) = 0, Q = R(0) P(0) takes u to L̂_W, and world
-//    L is fixed by construction. Rᵀ Ṙ = [w]× becomes
-//      [w]× = ψ̇ [P u]× + P Ṗᵀ   ⇒   ψ̇ = w·ℓ̂ + ℓ̂·ω_P,
-//    ω_P the space angular velocity of P (Ṗ Pᵀ = [ω_P]×, so P Ṗᵀ = −[ω_P]×). In polar angles
-//    about u (right-handed frame x', y', u), P = Z(φ) Y(θ) Z(−φ), so
-//    ω_P = φ̇ u + θ̇ Z(φ) y' − φ̇ ℓ̂ and ℓ̂·ω_P = −φ̇ (1 − u·ℓ̂). Euler's equations give
-//    ℓ² (1 − (u·ℓ̂)²) φ̇ = σ L_c (E − D/J_c), and w·ℓ̂ = E/ℓ; together
-//      ψ̇ = ℓ/J_c + (E − D/J_c)/(ℓ + σ L_c) = ℓ/J_c + (E − D/J_c)/(ℓ + B_c dn τ).
-//    Now E − D/J_c = B_a² (J_c − J_a)/(J_a J_c) and ℓ² − B_c² dn² = B_a² (1 − n sn²) with the
-//    characteristic n = −k² B_c²/B_a² ≤ 0, so 1/(ℓ + B_c dn) = (ℓ − B_c dn)/(B_a² (1 − n sn²)).
-//    With ∫dτ/(1 − n sn² τ) = Π(n; am τ, k) and, substituting φ = am τ (dφ = dn dτ),
-//    ∫dn dτ/(1 − n sn²) = ∫dφ/(1 − n sin²φ) = (B_a/B_b) Θ(φ), Θ(φ) = atan2(B_b sin φ, B_a cos φ)
-//    continued across its branch cuts (Θ(φ + π) = Θ(φ) + π):
-//      ψ = α τ + β Π(n; am τ, k) − γ Θ(am τ),
-//      α = ℓ/(J_c ω_p),  β = ℓ (J_c − J_a)/(J_a J_c ω_p),
-//      γ = B_a B_c (J_c − J_a)/(J_a J_c B_b ω_p).
-//    (The closed form of Celledoni, Fassò, Säfström & Zanna 2008, and of Landau–Lifshitz §37,
-//    who write it in Euler angles about L.)
-//
-// 3. A well-conditioned form. β and γ grow like 1/ω_p, which is small for near-symmetric bodies
-//    whose polhode circles the axis of the nearly equal moment; Π and Θ are then O(1) with large
-//    parts that cancel. The transformation n ↔ N = k²/n = −B_a²/B_c² (DLMF 19.7.9:
-//    Π(n; φ) + Π(N; φ) = F(φ) + √c R_C((c − 1)(c − k²), (c − n)(c − N)), c = csc²φ) has, here,
-//    √c R_C(…) = (γ/β) atan((B_b ℓ/(B_a B_c)) tan φ/dn), so that
-//      ψ = α τ − β (Π(N; am τ) − F) + γ Φ(am τ),
-//      Φ = atan((B_b ℓ/(B_a B_c)) tan φ/dn) − Θ(φ)
-//        = atan2(B_a B_b sn cn (ℓ − B_c dn), B_a² B_c dn cn² + B_b² ℓ sn²),
-//    periodic and |Φ| < π/2 (the denominator is positive), with ℓ − B_c dn formed as
-//    (B_a² + k² B_c² sn²)/(ℓ + B_c dn). Since nN = k² ≤ 1, one of the two has |ν| ≤ k; the
-//    cache uses that one (`dual` when it is N). With Carlson's
-//    Π(ν; φ) − F(φ) = (ν/3) sin³φ R_J(cos²φ, dn², 1, 1 − ν sin²φ) (|φ| ≤ π/2) and F(am τ) = τ:
-//      n:  ψ = (ℓ/J_a) t + β (n/3) sn³ R_J(cn², dn², 1, 1 − n sn²) − γ Θ   ((α + β) ω_p = ℓ/J_a),
-//      N:  ψ = (ℓ/J_c) t − β (N/3) sn³ R_J(cn², dn², 1, 1 − N sn²) + γ Φ.
-//    In both, the linear part advances with time (rate·h per step), not with the phase, and the
-//    rest (g below) has coefficients that stay bounded where ω_p → 0 (β ν and γ do). Checked
-//    against a compensated RK4 for (J2 − J1)/J1 down to 1e-11, both polhode orientations: 1e-15.
-//
-// 4. Evaluation without drift. Split τ = 2K m + τ_r, τ_r ∈ [−K, K]. Then am τ = mπ + am τ_r,
-//    sn and cn change sign m times (tracked by ρ), Π(ν; am τ) − F = 2m (Π(ν) − K) +
-//    (Π(ν; am τ_r) − F), Θ gains mπ and Φ nothing. Hence ψ(t) = rate·t + m Δψ_half + g(τ_r):
-//      g(τ_r) = ±β (ν/3) sn³ R_J(cn², dn², 1, 1 − ν sn²) ∓ γ (Θ or Φ),
-//      Δψ_half = ±2β (ν/3) R_J(0, k'², 1, 1 − ν) [− γ π for n].
-//    A step evaluates, from the anchor (τ_a, ψ_a, g_a) and the elapsed time t = k h,
-//    τ = τ_a + ω_p t (m half periods removed) and ψ = ψ_a + rate·t + m Δψ_half + g(τ_r) − g_a:
-//    one sn/cn/dn (Bulirsch) and one R_J, whatever h. Nothing is compounded over steps, so the
-//    round-off of τ and ψ is a few ulps of ω_p t and rate·t themselves (the floor set by the
-//    rounding of ω_p and rate), not a growing sum of per-step roundings. Point 7 evaluates this
-//    only on the first step of every run of kRunLength steps.
-//
-// 5. Special states. Separatrix (D = E J2 exactly, k = 1): sn = tanh τ, cn = dn = sech τ, no
-//    period; in the dual form Π(N; am τ, 1) − F is elementary and
-//      ψ = (ℓ/J_c + β ω_p B_a²/ℓ²) t − β (B_a B_c/ℓ²) atan((B_a/B_c) tanh τ) + γ Φ;
-//    the body tends to the unstable e2 spin for ever (sech τ → 0 smoothly, no overflow, ψ̇ → E/ℓ).
-//    Near the separatrix (k' → 0) K grows like ln(4/k'); the AGM and Carlson's functions take
-//    k'² itself, and nothing divides by k'. A spin about a principal axis (two components of L
-//    zero, the unstable e2 included) is a steady rotation; w = 0 no rotation.
-//
-// 6. Near-symmetric bodies. The switch to the symmetric formula happens where Inertia declares
-//    two moments equal (relative difference ≤ kEqualMomentsRelTol = 1e-12; then J1 = J2 exactly
-//    and the class is symmetric). The asymmetric path does not need an earlier switch: the
-//    J-differences are exact differences of the stored moments, every amplitude is a sum of
-//    non-negative terms, k² ∝ (J2 − J1) → 0 where Bulirsch's sn → sin, and point 3 removes the
-//    only 1/ω_p-sized cancellation. Switching earlier would cost accuracy, not buy it: the
-//    symmetric solution of the averaged body departs from the true one by O((J2 − J1)/J1 ·
-//    phase); at the threshold that is below 1e-9 after 1e3 rad of rotation.
-//
-// 7. Runs of steps by the addition theorems. R_J is the dearest part of point 4, so within a run
-//    of kRunLength steps only the first evaluates Π from the anchor; the others add its change.
-//    With P(u) = Π(ν; am u, k) − u = ∫₀ᵘ ν sn²/(1 − ν sn²), Jacobi's addition theorem for his Π
-//    function Π(u, a) = ∫₀ᵘ k² sn a cn a dn a sn²/(1 − k² sn² a sn²) (Π(u, a) + Π(v, a) − Π(u + v,
-//    a) = ½ ln[(1 − k² sn a sn u sn v sn(u + v − a))/(1 + k² sn a sn u sn v sn(u + v + a))], with
-//    ν = k² sn² a) becomes for ν = −μ ≤ 0 (a imaginary: sn a = i√μ/k, cn a = √(1 + μ/k²),
-//    dn a = √(1 + μ), and ½ ln((p − iq)/(p + iq)) = −i atan(q/p)), after expanding sn(w ∓ a):
-//      P(u + v) = P(u) + P(v) − A atan(B sn u sn v sn w / (1 − ν sn² w + ν sn u sn v cn w dn w)),
-//      w = u + v,  A = √(μ/((k² + μ)(1 + μ))),  B = √(μ (k² + μ)(1 + μ))
-//    (A B = μ: to third order both sides give P(u + v) − P(u) − P(v) = ν u v (u + v)). The
-//    denominator is 1 + O(|ν|) > 0 for |ν| ≤ k < 1, so the atan is continuous in u, v and the
-//    identity holds for any real steps. So ψ(t_run + j h) = ψ(t_run) + rate·j h + coef_pi (j P(δ)
-//    − A Σ atan(…)) + coef_atan ΔΦ (or ΔΘ), δ = ω_p h, with P(δ) from point 4 once per step size.
-//    sn, cn, dn at the new phase come from the anchor (Bulirsch, as in point 4), or, for a small
-//    phase step (δ ≤ kSmallPhaseStep) or a well-conditioned modulus (k'² ≥ kWellConditionedKp2),
-//    from their own addition theorems sn(u + δ) = (sn u cn δ dn δ + sn δ cn u dn u)/D,
-//    cn(u + δ) = (cn u cn δ − sn u sn δ dn u dn δ)/D, projected back onto sn² + cn² = 1 and
-//    dn = √(cn² + k'² sn²) (the projection removes D). Why the conditions: the recurrence alone
-//    amplifies an error off those curves (ε grew 1.35× per step at δ ≈ 0.7 on J = (1, 2, 3)), and
-//    along the curve an absolute error ε in (sn, cn, dn) is a phase error ε/|∇| with |∇| ≈ dn,
-//    which near the separatrix spends its time at dn ≈ k' ≪ 1; small steps keep the relative
-//    precision of small cn and dn (no cancellation in the theorems), and a large k' has no such
-//    region. A run's round-off adds up over at most kRunLength − 1 steps and restarts from the
-//    anchor (test: AdditionTheoremStepsEqualTheAnchoredEvaluation).
+// The exact torque-free flow. Derived in doc/conventions.md, "The asymmetric flow derived":
+// the body momentum (E26), the attitude (E27) in its well-conditioned form (E28), evaluated
+// from the anchor without drift (E29), the separatrix and principal-axis spins (E30),
+// near-symmetric bodies (E31), and runs of steps by the addition theorems (E32). Notation:
+// L = J w the body angular momentum, ℓ = |L|, D = ℓ², E = 2T.
 //
 // Symmetric and spherical bodies use the closed forms of free_flow.h, with their angles likewise
 // evaluated from the elapsed time (ψ_a + rate·t, ψ3_a + β t) and reduced, and w_B rebuilt from
@@ -708,8 +592,8 @@ void exactFreeFlow(const Inertia& inertia, double lambda, double h, BodyState& s
 
 // The same closed forms as a function of the elapsed steps alone (coasting, free_flow.h): the
 // anchor is `from`, the cache is built from it once (keyed by it, so another `from` rebuilds), and
-// every call evaluates from that anchor — the elliptic phase and Π by point 4, never by the runs of
-// point 7 — and writes nothing the next call reads except what the build made. So the state at
+// every call evaluates from that anchor — the elliptic phase and Π by (E29), never by the runs of
+// (E32) — and writes nothing the next call reads except what the build made. So the state at
 // step k does not depend on which earlier steps were evaluated, or whether any were.
 void freeFlowAt(const Inertia& inertia, double lambda, double h, double steps,
                 const BodyState& from, FreeFlowCache& c, const Eigen::Vector3d& g_W,

@@ -31,14 +31,10 @@ void AutoIntegrator::step(const Inertia& inertia, const Loads& loads, double lam
     exact_.step(inertia, loads, lambda, h, state);
     return;
   }
-  // Torques: the Strang splitting with the exact flow, for every inertia class. Asymmetric
-  // bodies could take cga4 instead (the design allows it if the exact flow were much slower).
-  // Measured (J = (1, 2, 3) under a constant world couple): the exact flow rebuilds its elliptic
-  // cache after every torque kick, ≈ 720 ns per step against ≈ 450 ns for cga4 (1.6×).
-  // Accuracy on bench's constant_torque case over 100 s (attitude error): h = 1 ms, exact+kicks
-  // 1.1e-6 rad, cga4 5.7e-7; h = 10 ms, exact+kicks 1.1e-4, cga4 5.6e-3. The splitting's error
-  // is set by the torque alone (none from the spin), so it degrades gracefully with h and with
-  // fast spins, where cga4's grows like (h|w|)⁴: the exact flow it is.
+  // Torques: the Strang splitting with the exact flow, for every inertia class. Its error is set
+  // by the torque alone (none from the spin), so it degrades gracefully with h and with fast
+  // spins, where cga4's grows like (h|w|)⁴; it costs more than cga4 for an asymmetric body (the
+  // elliptic cache is rebuilt after every kick), and that trade is measured in doc/decisions.md.
   path_ = "exact+kicks";
   exact_.step(inertia, loads, lambda, h, state);
 }

@@ -31,10 +31,8 @@ constexpr double kOne = 1.0;
 // B's axes are sorted J1 ≤ J2 ≤ J3 (inertia.h). r = 2 (the middle moment) leaves the two smallest
 // coefficients, |κ_1|/J_1 = 1/J_1 − 1/J_2 and |κ_3|/J_3 = 1/J_2 − 1/J_3, and makes the step exact
 // for every symmetric body (J1 = J2 or J2 = J3: one piece is the identity, the other commutes with
-// the rest). The outer axis a = 1 against a = 3, measured (bench_work_precision, orientation after
-// 100 s, h = 1e-4 … 0.1, all five cases, cga2 and cga4): a = 1 is 2–10× more accurate on the thin
-// rod for 2e-4 ≤ h ≤ 2e-2 and 3× on the tennis racket under cga4; a = 3 is 5× more accurate on the
-// projectile under cga2. Neither wins everywhere.
+// the rest). The outer axis a = 1 is the more accurate on the thin rod and the tennis racket,
+// a = 3 on the projectile; neither wins everywhere (doc/decisions.md, "the outer axis").
 constexpr int kRef = 1, kA = 0, kB = 2;
 
 // sin φ and versin φ = 1 − cos φ to full relative precision. versin is kept instead of cos
@@ -48,9 +46,8 @@ constexpr int kRef = 1, kA = 0, kB = 2;
 // division by a constant is not turned into a multiplication without -ffast-math):
 //   fine,   φ² ≤ 2⁻¹⁵ (|φ| ≤ 0.0055): through φ⁵ and φ⁶, as t + (t z)(z/5! − 1/3!) and
 //           z/2 + z²(z/6! − 1/4!): two operations after z on the path to sin and versin instead
-//           of three (the common case at millisecond steps: cga2 under a couple 63 -> 59 ns,
-//           every case 1-10 % cheaper); the first omitted terms, φ⁷/7! and φ⁸/8!, are below
-//           6e-18 relative to sin φ ≈ φ and versin φ ≈ φ²/2, ε/40;
+//           of three (the common case at millisecond steps); the first omitted terms, φ⁷/7! and
+//           φ⁸/8!, are below 6e-18 relative to sin φ ≈ φ and versin φ ≈ φ²/2, ε/40;
 //   small,  |φ| ≤ 1/32: through φ⁷ and φ⁸; the first omitted terms, φ⁹/9! and φ¹⁰/10!, are
 //           below 3e-18 relative;
 //   medium, |φ| ≤ 1/2:  through φ¹³ and φ¹⁴; the first omitted terms, φ¹⁵/15! and φ¹⁶/16!,
@@ -125,10 +122,8 @@ struct FreeFlow {
 // One turn by the composed rotor instead of one per piece: ρ's norm is 1 to a few ε (it is formed
 // afresh every flow), and x keeps its length to that. x is doubled before the cross product (exact,
 // so the same bits as doubling t): the doubling then waits for x, not for ρ, which a flow forms
-// last (cga4 under a couple 167 -> 163 ns with the kicks' (τ/J)·c below).
-// The sum is written out three times: GCC at -O2 keeps a loop over x in memory otherwise, and the
-// next operation on x then waits for a store and a load (cga4 under a couple 158 -> 137 ns with
-// composeWorldLoads' local copies, every cga4 case 3-11 % cheaper).
+// last. The sum is written out three times: GCC at -O2 keeps a loop over x in memory otherwise,
+// and the next operation on x then waits for a store and a load (doc/decisions.md).
 CGA_ALWAYS_INLINE void turnInto(const Quat& d, double* x) {
   const double x2[3] = {2.0 * x[0], 2.0 * x[1], 2.0 * x[2]};
   const double t[3] = {x2[1] * d.z - x2[2] * d.y, x2[2] * d.x - x2[0] * d.z,
@@ -150,9 +145,8 @@ CGA_ALWAYS_INLINE void turnInto(const Quat& d, double* x) {
 //   ρ(1 + ε) − 1 = d + ε + d ε,  and d e_i has only four nonzero products (the sparse product).
 // Only w → φ → (sin φ, versin φ) → w is on the critical path; the half angle's functions and
 // the rotor run beside it. Both angles' functions are summed from their own series (at φ and at
-// φ/2, each within the bounds above): forming sin φ = 2 sin(φ/2)(1 − versin(φ/2)) from the half
-// angle's instead put two more operations per piece on that path (measured: cga4 under a world
-// couple 190 -> 173 ns, on the projectile 109 -> 93).
+// φ/2, each within the bounds above), which keeps the half angle off that path
+// (doc/decisions.md, "each angle's functions").
 //
 // `carried`, when given, is a world-fixed vector in body axes (the couple of composeWorldLoads),
 // turned with L_B (by −φ about e_i, with the same sin φ and versin φ or shears; its ratios are 1):
@@ -282,15 +276,12 @@ CGA_ALWAYS_INLINE void stagePieces(double tau, const Cache& c, FreeFlow& f,
 // M ← M / |r| to first order, M + e M with e = (1 − n)/2 (n = |r|², n − 1 a few ε), once at the
 // start of a step: the rotor factors of parts turning by a large angle have norm errors of a few
 // ε, and without this the motor's norm walks by them, and v_W = r u r̃ and the centre of mass with
-// it (the projectile at h = 0.05 s: 5e-14 of |r|² and 15× the round-off allowance in the CoM after
-// 2000 steps). e is exact (Sterbenz) and small, so M + eM rounds without bias; the scale (3 − n)/2
-// instead rounds to 1 or 1 − ε/2 and shrank the motor a little every step (the CoM 19× the
-// allowance after 10⁶ steps of cga4). Where it sits in program order was measured: in the general
-// path (kicks at the pose), after the opening kick, which then reads the rotor as the last step
-// left it (norm 1 + O(ε)) and does not wait for this (cga2 under a world couple 75 -> 66 ns when
-// that couple still took this path; at the end of the flow it lengthened the chain into the
-// closing kick by 9 ns); in composeWorldLoads just before the motor update (5 ns cheaper than at
-// the start).
+// it, beyond the round-off allowance. e is exact (Sterbenz) and small, so M + eM rounds without
+// bias, where a scale such as (3 − n)/2 would round to 1 or 1 − ε/2 and shrink the motor a little
+// every step. In the general path (kicks at the pose) it runs after the opening kick, which then
+// reads the rotor as the last step left it (norm 1 + O(ε)) and does not wait for this; in
+// composeWorldLoads just before the motor update, off the chain from kick to kick
+// (doc/decisions.md, "renormalising the motor").
 CGA_ALWAYS_INLINE void renormalise(BodyState& s) {
   const Quat r = toQuat(s.M_WB.rotorQuaternion()), q = toQuat(s.M_WB.dualQuaternion());
   const double n = (r.w * r.w + r.x * r.x) + (r.y * r.y + r.z * r.z);
@@ -410,8 +401,7 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
   } else {
     // The couple and w as local arrays, their loops written out: kept in state memory or in an
     // Eigen vector whose address is taken, and looped over, every kick and turn stored them and
-    // loaded them again on the path from one kick to the next (cga4 under a couple 158 -> 137 ns,
-    // with turnInto written out).
+    // loaded them again on the path from one kick to the next.
     double w[3] = {w_state[0], w_state[1], w_state[2]};
     const Eigen::Vector3d& inv_J = cache.inv_J;
     double tau_kick = 0.5 * (gamma[0] * h);  // each kick is w += (τ/J)·c, one operation after c
@@ -420,19 +410,17 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
     // end of a step it is in the new axes without a turn by the new rotor. Turned from the world
     // afresh, the next step's first kick waits for the rotor, which waits for the whole turning
     // of this step: carried, the path from one step to the next is the turning alone, and the
-    // rotor is off it (cga2 under a world couple 66.6 -> 61.7 ns, cga4 162 -> 143). The carried c
-    // and R̃ c_W differ by the roundings of the turns (a few ε a step, and a bias of the order of
-    // the rotor's norm error when the same turn repeats), so the couple is turned from the world
-    // again every CarriedCouple::kMaxSteps steps: c stays within 2e-13 of R̃ c_W (measured over
-    // 2·10⁵ steps at 100 rad/s; 3e-9 without the turns from the world, integrator_cga2_test.cc).
+    // rotor is off it. The carried c and R̃ c_W differ by the roundings of the turns (a few ε a
+    // step, and a bias of the order of the rotor's norm error when the same turn repeats), so the
+    // couple is turned from the world again every CarriedCouple::kMaxSteps steps, which keeps c
+    // close to R̃ c_W (integrator_cga2_test.cc bounds the gap; doc/decisions.md).
     //
     // Each stage's C(τ) turns by |a|, |a|² = (½τ/J_r)² |L|², with |L|² carried as a number
     // instead of summed from the kicked w: the flows keep |L_B| and L_B·c (C turns c about L_B;
     // a piece turns L_B and c by the same rotation) and a kick L += τ c makes them |L|² + 2τ L·c
     // + τ²|c|² and L·c + τ|c|², so the angle is ready before the kick's w, and the couple's
-    // turn by C, the longest path from one kick to the next, is three operations shorter (cga4
-    // under a couple 162 -> 157 ns). They are carried across steps with c (cga2 under a couple
-    // 62.0 -> 55.9 ns with the x86-64-v4 clone), and formed from w when c is turned afresh. The
+    // turn by C, the longest path from one kick to the next, is three operations shorter. They
+    // are carried across steps with c, and formed from w when c is turned afresh. The
     // carried |L|² agrees with Σ(J w)² to a few ε; the rotor norm error of that order is what
     // renormalise() takes off.
     Cache::CarriedCouple& carried = cache.couple;
@@ -509,19 +497,16 @@ CGA_ALWAYS_INLINE void composeWorldLoads(const Eigen::Vector3d* accel_W, double 
 //
 // Compiled for x86-64 as such, for CPUs with fused multiply-add and for x86-64-v4 (GCC's
 // target_clones: the loader picks the clone once, by CPUID, through an ifunc). A step is a chain
-// of dependent products and sums, and FMA shortens it: measured 10-20 % cheaper on every case
-// (docs). The x86-64-v4 clone uses no 512-bit vectors (GCC prefers 256 bits, and no clock
-// penalty comes with it); what it gains is AVX-512's 32 vector registers instead of 16: the FMA
-// clone keeps w, the couple and the series' terms in stack memory for want of registers (~110 of
-// its ~670 instructions a step under a couple are stack loads and stores, ~30 of the x86-64-v4
-// clone's ~600), and the step is bound by its work as much as by its chain (measured on an Intel
-// Xeon, a Sapphire Rapids core: cga2 under a world couple 62 -> 55 ns, every other case 5-11 %
-// cheaper, the same errors to seven digits). Everything it calls is inlined (CGA_ALWAYS_INLINE),
-// since GCC does not inline ordinary functions into a clone whose target differs from theirs. The
-// plain clone rounds differently from the others (a fused a·b + c is rounded once), so results are
-// reproducible on one machine, and agree across machines only to rounding; every accuracy
-// statement above holds for each clone, and the tests pass on each (the plain one with
-// -DCGA_RIGID_SIM_NO_FMA_CLONES).
+// of dependent products and sums, and FMA shortens it. The x86-64-v4 clone uses no 512-bit
+// vectors (GCC prefers 256 bits, and no clock penalty comes with it); what it gains is AVX-512's
+// 32 vector registers instead of 16: the FMA clone keeps w, the couple and the series' terms in
+// stack memory for want of registers, and the step is bound by its work as much as by its chain
+// (the measurements: doc/decisions.md, "compiled for FMA"). Everything it calls is inlined
+// (CGA_ALWAYS_INLINE), since GCC does not inline ordinary functions into a clone whose target
+// differs from theirs. The plain clone rounds differently from the others (a fused a·b + c is
+// rounded once), so results are reproducible on one machine, and agree across machines only to
+// rounding; every accuracy statement above holds for each clone, and the tests pass on each (the
+// plain one with -DCGA_RIGID_SIM_NO_FMA_CLONES).
 template <int S>
 CGA_FMA_CLONES void compose(const Inertia& inertia, const Loads& loads, double lambda, double h,
                             const double* gamma, Cache& cache, BodyState& state) {

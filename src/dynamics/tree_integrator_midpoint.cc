@@ -219,9 +219,8 @@ class Midpoint final : public TreeIntegrator {
     }
     // Start from the extrapolated midpoint velocity when the last step had the same h, else from
     // ν. The iteration matrix is M + ½hC at the step's start: the previous step factored M
-    // there for its velocities, so a run of steps factors M once per step (measured on the
-    // 7-link arm at h = 1 ms with a quadratic guess: 3.5 iterations per step, fewer than with a
-    // fresh matrix at the predicted midpoint, which cost a second factorization).
+    // there for its velocities, so a run of steps factors M once per step (and needs no more
+    // iterations than a fresh matrix at the predicted midpoint: doc/decisions.md).
     const bool extrapolated = fresh && h == last_h_;
     if (!extrapolated) contraction_ = 0.0;  // measured anew in this run of steps
     if (extrapolated) {

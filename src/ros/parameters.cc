@@ -333,7 +333,7 @@ const std::vector<std::string>& knownPrivateParams() {
       // contacts
       "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping", "self_collision",
       "srdf_file", "self_collision_pairs",
-      // ~markers (README "Seeing the simulation")
+      // ~markers (doc/node.md "Seeing the simulation")
       "marker_length", "marker_angular_momentum_ref", "marker_angular_velocity_ref",
       "marker_force_ref",
       // bounds on inputs
@@ -479,7 +479,7 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
       readWhole(pnh, "threads", &threads, 0, sim::kMaxThreads, "2", " (the cores available)"));
   p.world.threads =
       threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  // The bounds on inputs (README "Limits and bounds").
+  // The bounds on inputs (doc/node.md "Limits and bounds").
   constexpr int kMaxBound = 100000000;  // 1e8 inputs of ~150 bytes: 15 GB, past any machine
   CGA_RIGID_SIM_READ(
       readWhole(pnh, "max_queued_inputs", &p.world.max_queued_inputs, 1, kMaxBound, "10000"));

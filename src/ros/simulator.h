@@ -1,5 +1,5 @@
 // Simulator: the ROS face of one sim::World. Parameters, topics, services, tf2 and /clock
-// (README "The simulator node" has the interface table). Thin: every callback converts a
+// (doc/node.md has the interface tables). Thin: every callback converts a
 // message to the core's types (conversions.h), calls World, and converts the answer back.
 //
 // Threading: one thread. The main loop steps the World and services the callback queue

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The running node offers exactly the topics and services of test/interface.yaml, with their
-types, and README.md documents every entry of it.
+types, and the node's reference, doc/node.md (linked from README.md), documents every entry of it.
 
 Truth: the manifest (the public contract). The master's system state lists what the node
 registered; roscpp's own ~get_loggers, ~set_logger_level and /rosout are not part of the
@@ -87,17 +87,19 @@ class InterfaceTest(unittest.TestCase):
         msg = rospy.wait_for_message(NODE + '/rejected_inputs', UInt64, timeout=10.0)
         self.assertEqual(msg.data, 0)
 
-    def test_readme_documents_every_entry(self):
+    def test_node_reference_documents_every_entry(self):
         with open(os.path.join(self.package, 'README.md')) as f:
             readme = f.read()
-        self.assertTrue('## The simulator node' in readme,
-                        'README.md has no section "## The simulator node"')
+        self.assertTrue('## The simulator node' in readme and '(doc/node.md)' in readme,
+                        'README.md has no section "## The simulator node" linking doc/node.md')
+        with open(os.path.join(self.package, 'doc', 'node.md')) as f:
+            reference = f.read()
         names = (list(self.manifest['publishes']) + list(self.manifest['publishes_with_joints']) +
                  list(self.manifest['publishes_with_curvature']) +
                  list(self.manifest['subscribes']) + list(self.manifest['services']) +
                  list(self.manifest['parameters']))
-        missing = [n for n in names if n.lstrip('~') not in readme]
-        self.assertEqual(missing, [], 'README.md does not mention these interface names')
+        missing = [n for n in names if n.lstrip('~') not in reference]
+        self.assertEqual(missing, [], 'doc/node.md does not mention these interface names')
 
 
 if __name__ == '__main__':

@@ -14,7 +14,7 @@
 //               the fixed world L from the incomplete elliptic integral of the third kind:
 //               R(t) = Q Rot_B(u, ψ(t)) P(t)⁻¹, with P(t) the shortest rotation taking a fixed
 //               principal axis u to L̂_B(t) and Q the constant rotation taking u to L̂_W.
-//               (Derivation above exactFreeFlow in src/dynamics/free_flow.cc. The same
+//               (Derived in doc/conventions.md, (E26)–(E32). The same
 //               solution as Celledoni, Fassò, Säfström & Zanna, "The exact computation of the
 //               free rigid body motion and its use in splitting methods", SIAM J. Sci. Comput.
 //               30 (2008) 2084–2112, and Landau & Lifshitz, Mechanics, §37.)
@@ -28,7 +28,7 @@
 // floor, set by the rounding of the rates — however many steps it took. (Elliptic: the third-kind
 // integral inside g is evaluated so only on the first step of every run of 32; the others add its
 // change by the integral's addition theorem, and sn, cn, dn advance by theirs when that is well
-// conditioned — free_flow.cc, point 7 — so a run's round-off adds up over ≤ 31 steps only.) The
+// conditioned — doc/conventions.md (E32) — so a run's round-off adds up over ≤ 31 steps only.) The
 // centre of mass likewise: x_W = x_a + v_a t + ½ g t² from its own anchor (renewed when a kick
 // changes v). The rotor is rebuilt in closed form from those angles, never by compounding step
 // rotations, so world L, |L| and T are kept to round-off at every step, and N steps of h equal one
@@ -124,7 +124,7 @@ struct FreeFlowCache {
   double tau = 0;        ///< reduced phase of the last evaluation from the anchor
   double g_tau = 0;      ///< g at tau
   // Steps between evaluations of Π from the anchor (runs of kRunLength steps) take Π's part of ψ
-  // from its addition theorem (free_flow.cc, point 7): sn δ and the gain P(δ) of Π(ν; am τ) − τ
+  // from its addition theorem (doc/conventions.md (E32)): sn δ and the gain P(δ) of Π(ν; am τ) − τ
   // over one step δ = ω_p h (for the step size `step_h`; step_ready false after a rebuild), the
   // theorem's constants A and B; the signed sn of the last step, the sum of the theorem's atan
   // terms, the angle term (Φ, or Θ continued) and ψ where the run started, and its steps.

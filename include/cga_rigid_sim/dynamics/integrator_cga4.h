@@ -8,15 +8,9 @@
 // about L_B and one rotor (2s + 1 axis rotations per step).
 //
 // The composition is Yoshida's triple jump, γ = (a, 1 − 2a, a), a = 1/(2 − 2^(1/3)) ≈ 1.35 (the
-// middle stage steps back by 1.70 h): 3 stages, 7 axis rotations per free step (13 before cga2
-// split off the Casimir, integrator_cga2.h). Suzuki's
-// five-stage γ = (p, p, 1 − 4p, p, p), p = 1/(4 − 4^(1/3)), was measured as the alternative: its
-// error constant is 70–100× smaller (orientation error after 100 s at h = 5 ms: tennis racket
-// 1.8e-10 vs 6.1e-9; MuJoCo box at w = 5 rad/s 1.2e-7 vs 1.0e-5), about 10× at equal work, but
-// it costs 5/3 of Yoshida's axis rotations per step (21 against 13 with the three-axis split of
-// cga2, the measurement's time; 11 against 7 now), which broke the 150 ns budget, while
-// the triple jump already meets the accuracy target by four orders of magnitude (tennis racket,
-// h = 1 ms, T = 100 s: 2.7e-11 rad against 1e-7).
+// middle stage steps back by 1.70 h): 3 stages, 7 axis rotations per free step. It meets the
+// accuracy target with orders of magnitude to spare at the fewest rotations per step; why not a
+// five-stage composition with a smaller error constant: doc/decisions.md.
 //
 // Conserves what cga2 conserves: |L| and (without loads) world L, p to round-off, no energy
 // drift, the ballistic centre of mass to round-off (Σγ = 1 and each stage is exact for it).

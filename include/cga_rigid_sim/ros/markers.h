@@ -1,5 +1,5 @@
 // Markers: the core's reports (sim/reports.h) drawn as a visualization_msgs/MarkerArray for
-// rviz (the node's ~markers topic; README "Seeing the simulation").
+// rviz (the node's ~markers topic; doc/node.md "Seeing the simulation").
 //
 // Per moving body, at its centre of mass, in the world frame:
 //   namespace "body/<name>", id 0: the angular momentum L about the CoM (arrow),
@@ -41,7 +41,7 @@ constexpr double kMaxRelativeLength = 4.0;
 constexpr double kMinAngularMomentumRef = 1e-4;
 constexpr double kMinAngularVelocityRef = 0.1;
 
-/// The node's parameters ~marker_length, ~marker_angular_momentum_ref, ... (README).
+/// The node's parameters ~marker_length, ~marker_angular_momentum_ref, ... (doc/node.md).
 struct MarkerScale {
   double length = 0.25;               ///< ℓ, m: the length of an arrow at its reference magnitude
   double angular_momentum_ref = 0.0;  ///< L_ref, kg m²/s; 0 = chosen (the rule above)

@@ -125,7 +125,7 @@ struct WorldConfig {
   ContactModel contact_model;
 
   /// Bounds on inputs (each ≥ 1), so that no flood of valid inputs grows memory or the cost of
-  /// a step without bound (README "Limits and bounds"). Inputs waiting for their step, in all
+  /// a step without bound (doc/node.md, "Limits and bounds"). Inputs waiting for their step, in all
   /// and per moving body (wrenches and impulses) or per tree (joint efforts): past them an
   /// input is refused when it arrives. 136 bytes each, so the default costs at most 1.4 MB
   /// (twice that reserved, at worst); 1000 per body hold a 1 s trajectory at 1 kHz ahead.
@@ -134,15 +134,15 @@ struct WorldConfig {
   /// Wrenches and timed joint efforts acting at once, in all and per moving body (per tree for
   /// timed efforts): past them a wrench is refused when it is due to start (so a replay of the
   /// same stamped inputs refuses the same ones). Each active wrench is evaluated at every
-  /// (sub)step of its body's integrator, ~0.15 µs each: 64 on a body cost ~10 µs a step, 1000
-  /// in all ~0.2 ms, a fifth of a real-time step at dt = 1 ms (README "Limits and bounds").
+  /// (sub)step of its body's integrator, so these bound the cost of a step; the defaults keep it
+  /// within a real-time step at dt = 1 ms (what they cost: doc/decisions.md).
   int max_active_wrenches = 1000;
   int max_active_wrenches_per_body = 64;
   /// Curved space (the node's ~curvature; doc/curved_space.md): the radius R, m, of a space of
   /// constant curvature, > 0 the 3-sphere, < 0 hyperbolic space; unset = Euclidean space. The
   /// bodies then move "1 up" (dynamics/curved_integrator.h) and are reported in the
   /// stereographic chart. Free bodies only, with gravity off; integrators auto, curved2,
-  /// curved_exact; no contacts, wrenches, impulses, state edits or spawning yet.
+  /// curved_exact; wrenches and impulses act 1 up; no contacts, state edits or spawning yet.
   std::optional<double> curvature;
 };
 
