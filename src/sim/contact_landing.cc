@@ -6,6 +6,7 @@
 #include "cga_rigid_sim/dynamics/derived.h"
 #include "cga_rigid_sim/dynamics/impulse.h"
 #include "contact_detection.h"
+#include "contact_step.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -86,6 +87,62 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
   b.integrator->reset();
   b.contact_step = MovingBodyData::ContactStep::kDone;
   return dissipated;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
+
+namespace cga_rigid_sim {
+namespace sim {
+
+bool landBodies(const Model& model, Data& data, ContactScratch& S, const SolverSettings& st) {
+  // Landings: a body whose contacts are all gaps to the ground plane that close within the
+  // step faster than the resting speed is stepped to the instant it lands and bounces there.
+  std::size_t kept = S.found.size();
+  S.landing.assign(S.bodies.size(), 1);
+  for (std::size_t s = 0; s < S.bodies.size(); ++s)
+    if (S.bodies[s].tree >= 0) S.landing[s] = 0;  // a tree's links land as the tree moves
+  for (std::size_t k = 0; k < kept; ++k) {
+    const Contact& c = S.found[k];
+    if (c.body_b != kGroundPlane || c.depth > 0) S.landing[S.slot_a[k]] = 0;
+    if (S.slot_b[k] >= 0) S.landing[S.slot_b[k]] = 0;
+  }
+  S.landed.clear();
+  double landing_dissipated = 0.0;
+  {
+    std::size_t k = 0;
+    while (k < kept) {  // a body's plane contacts are consecutive (detection order)
+      std::size_t e = k + 1;
+      while (e < kept && S.slot_a[e] == S.slot_a[k]) ++e;
+      const int s = S.slot_a[k];
+      if (S.landing[s]) {
+        const double t = landingTime(model, data, S, k, e, st.rest_speed);
+        if (t > 0)
+          landing_dissipated += land(model, data, S, S.moving_of_slot[s], t, st, S.landed);
+        else
+          S.landing[s] = 0;
+      }
+      k = e;
+    }
+    std::size_t out = 0;
+    for (std::size_t q = 0; q < kept; ++q) {
+      if (S.landing[S.slot_a[q]]) continue;
+      S.found[out] = S.found[q];
+      S.slot_a[out] = S.slot_a[q];
+      S.slot_b[out] = S.slot_b[q];
+      ++out;
+    }
+    kept = out;
+    S.found.resize(kept);
+    S.slot_a.resize(kept);
+    S.slot_b.resize(kept);
+  }
+  data.dissipated_energy += landing_dissipated;
+  if (kept == 0) {
+    data.contacts.assign(S.landed.begin(), S.landed.end());
+    return false;
+  }
+  return true;
 }
 
 }  // namespace sim

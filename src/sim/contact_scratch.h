@@ -53,7 +53,7 @@ struct ContactScratch {
 };
 
 /// Moving body i as the solver sees it: state s with body bivelocity omega_B, world axes
-/// (stage_contacts.cc).
+/// (contact_kick.cc).
 SolverBody solverBody(const Model& model, const dynamics::BodyState& s,
                       const cga::Bivelocity& omega_B, int i);
 

@@ -19,7 +19,7 @@
 // never raises it (doc/contacts.md proves it).
 //
 // The solver works on world-axes velocities (v, w) of the bodies' centres of mass; its
-// impulses are applied to the states as CGA impulses afterwards (stage_contacts.cc), so the
+// impulses are applied to the states as CGA impulses afterwards (contact_apply.cc), so the
 // velocity jump is (I∧n)⁻¹ T_imp as for user impulses. A link of an articulated tree has no
 // velocity of its own: the side of a contact on it reads and changes its tree's generalized
 // velocity ν through the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ

@@ -197,7 +197,7 @@ struct Data {
   StartRefusals start_refusals;  ///< wrenches and timed efforts refused at start
   TreeFaults tree_faults;        ///< tree steps undone for non-finite results
 
-  /// The contacts of the last step, with their impulses (stage_contacts.cc).
+  /// The contacts of the last step, with their impulses (contact_step.cc).
   std::vector<Contact> contacts;
   /// Gauss–Seidel sweeps the last step's contact solve took (0: no contact), for benchmarks.
   int contact_sweeps = 0;

@@ -12,7 +12,7 @@
 //   solveContacts    contacts found at the step's start (broad, then narrow phase); every body
 //                    in one, and every tree with a link in one, is kicked by its loads and the
 //                    contact impulses, solved together, act on it as user impulses do
-//                    (stage_contacts.cc, contact_trees.cc, doc/contacts.md);
+//                    (contact_step.cc and its sub-stages in contact_step.h, doc/contacts.md);
 //   integrateTrees   every articulated tree over the step with its tree integrator (gravity and
 //                    its loads; a tree the contacts stage kicked drifts without them); its
 //                    bodies' states are then written from the tree's (stage_trees.cc,
