@@ -62,6 +62,7 @@ class Midpoint final : public TreeIntegrator {
   double lastDissipated() const override { return dissipated_; }
   bool lastLimited() const override { return limited_; }
   bool lastSolved() const override { return solved_; }
+  bool conservesMomentum() const override { return true; }
   const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,

@@ -54,6 +54,7 @@ class Breaking final : public dynamics::TreeIntegrator {
   void reset() override { inner_->reset(); }
   double lastDissipated() const override { return inner_->lastDissipated(); }
   bool lastLimited() const override { return inner_->lastLimited(); }
+  bool conservesMomentum() const override { return inner_->conservesMomentum(); }
   bool lastSolved() const override {
     return !(broken_ && what_ == Break::kUnsolved) && inner_->lastSolved();
   }

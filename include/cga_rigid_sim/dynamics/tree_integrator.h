@@ -66,6 +66,10 @@ class TreeIntegrator {
   /// Whether the last step was solved: false when the implicit iteration did not converge
   /// within its attempts and the state was left as the last attempt made it (a tree fault).
   virtual bool lastSolved() const { return true; }
+  /// Whether a step without loads keeps a floating tree's momentum to round-off (the
+  /// variational midpoint and its compositions do; RK4 and Euler only to their truncation):
+  /// the World's momentum guard then checks the drift of a contact step too.
+  virtual bool conservesMomentum() const { return false; }
   /// The kinematics (poses and velocities of every body) of the state the last step produced,
   /// when the integrator has them at hand, else null: spares the caller a kinematics pass.
   /// Valid until the next call on the integrator; describes that state only while it is

@@ -124,6 +124,8 @@ struct TreeData {
   /// kick plus the loads' impulse h W and the impulses of contacts with anything but the tree
   /// itself (internal ones cancel). A floating tree's contact step is checked against it.
   cga::Moment contact_momentum_expected;
+  /// A floating tree's world momentum after the contact impulses, before the drift.
+  cga::Moment contact_momentum_solved;
   /// Its scale, kg m/s: the links' momenta, the loads' and contacts' impulses (the guard's
   /// tolerance is relative to it).
   double contact_momentum_scale = 0.0;
