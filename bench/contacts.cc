@@ -162,8 +162,8 @@ class CgaRobotSim : public ::bench::robots::RobotSim {
   CgaRobotSim(const ::bench::robots::RobotCase& c, const ::bench::robots::PreparedRobot& p,
               bool sleeping)
       : root_(c.root_link) {
-    Result<scene::Scene> loaded = scene::loadUrdfFile(c.urdf, scene::SceneOptions());
-    if (!loaded) throw std::runtime_error("loading " + c.urdf + ": " + loaded.error());
+    Result<scene::Scene> loaded = scene::loadUrdfFile(p.urdf, scene::SceneOptions());
+    if (!loaded) throw std::runtime_error("loading " + p.urdf + ": " + loaded.error());
     scene::Scene s = std::move(loaded).value();
     if (!c.contacts)
       for (scene::BodyModel& b : s.bodies) b.shapes.clear();

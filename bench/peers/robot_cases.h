@@ -9,9 +9,12 @@
 // it without a link dependency.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "../../test/common/real_like_robots.h"
 
 namespace bench {
 namespace robots {
@@ -21,7 +24,9 @@ inline std::string dartData() { return "/usr/share/doc/dart/data"; }
 
 struct RobotCase {
   std::string name;
-  std::string urdf;  // absolute path
+  std::string urdf;  // absolute path; empty when `generate` writes it
+  // A URDF written at run time: the text, given a directory for its meshes.
+  std::function<std::string(const std::string& dir)> generate;
   // package:// names the URDF uses -> directories (resolved through ROS_PACKAGE_PATH: a
   // temporary directory of symlinks named after the packages).
   std::map<std::string, std::string> packages;
@@ -81,7 +86,26 @@ inline RobotCase wamSwing() {
   return c;
 }
 
-inline std::vector<RobotCase> allRobotCases() { return {atlasFall(), kr5Swing(), wamSwing()}; }
+// The tests' floating humanoid-like tree (test/common/real_like_robots.h: ten chamfered-box
+// mesh links, 9 revolute joints with limits of ±2.5 rad, ~35 kg), written at run time: a
+// dependency-free stand-in for Atlas. Its lowest point (the shins' soles) is z = -0.69 with the
+// pelvis at the origin; the plane is 1 cm below.
+inline RobotCase humanoidFall() {
+  RobotCase c;
+  c.name = "humanoid_fall";
+  c.generate = [](const std::string& dir) { return cga_rigid_sim::test::humanoidUrdf(dir); };
+  c.floating = true;
+  c.root_link = "pelvis";
+  c.contacts = true;
+  c.ground_z = -0.69 - 0.01;
+  c.phase_ends = {1.0, 5.0};
+  c.phase_names = {"fall", "lying"};
+  return c;
+}
+
+inline std::vector<RobotCase> allRobotCases() {
+  return {atlasFall(), humanoidFall(), kr5Swing(), wamSwing()};
+}
 
 }  // namespace robots
 }  // namespace bench

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -35,7 +36,7 @@ void usage(const char* program, const std::string& engine) {
       "usage: %s --robots [options]\n"
       "  --out DIR       output directory (default %s)\n"
       "  --csv PATH      CSV file (default DIR/robots_%s.csv)\n"
-      "  --cases a,b     only these cases (atlas_fall, kr5_swing, wam_swing)\n"
+      "  --cases a,b     only these cases (atlas_fall, humanoid_fall, kr5_swing, wam_swing)\n"
       "  --configs a,b   only these configs\n"
       "  --reps R        timing repetitions, median reported (default 3)\n"
       "  --list          list configs and exit\n",
@@ -49,9 +50,9 @@ std::string readText(const std::string& path) {
   return ss.str();
 }
 
-// A mesh filename of the URDF as a path: package://pkg/rest through c.packages, file://path,
-// absolute, or relative to the URDF's directory.
-std::string resolveMesh(const RobotCase& c, const std::string& uri) {
+// A mesh filename of the URDF `urdf` as a path: package://pkg/rest through c.packages,
+// file://path, absolute, or relative to the URDF's directory.
+std::string resolveMesh(const RobotCase& c, const std::string& urdf, const std::string& uri) {
   const std::string pkg = "package://", file = "file://";
   if (uri.rfind(pkg, 0) == 0) {
     const std::string rest = uri.substr(pkg.size());
@@ -62,28 +63,65 @@ std::string resolveMesh(const RobotCase& c, const std::string& uri) {
   }
   if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
   if (!uri.empty() && uri[0] == '/') return uri;
-  return (fs::path(c.urdf).parent_path() / uri).string();
+  return (fs::path(urdf).parent_path() / uri).string();
+}
+
+// An ASCII STL ("solid ..." with "facet" lines) as binary STL at `to`; false if `from` is not
+// ASCII STL.
+bool asciiStlToBinary(const std::string& from, const fs::path& to) {
+  std::ifstream in(from);
+  std::string word;
+  if (!(in >> word) || word != "solid") return false;
+  std::vector<float> tris;  // 12 floats a facet: normal, three vertices
+  std::string line;
+  std::getline(in, line);  // the name
+  bool facet_seen = false;
+  while (in >> word) {
+    if (word == "facet" || word == "vertex") {
+      if (word == "facet") {
+        facet_seen = true;
+        in >> word;  // "normal"
+      }
+      for (int k = 0; k < 3; ++k) {
+        double x = 0;
+        in >> x;
+        tris.push_back(static_cast<float>(x));
+      }
+    }
+  }
+  if (!facet_seen) return false;  // a binary STL whose header starts with "solid"
+  std::ofstream out(to, std::ios::binary);
+  char header[80] = "binary STL written by bench robot_common";
+  out.write(header, sizeof header);
+  const std::uint32_t n = static_cast<std::uint32_t>(tris.size() / 12);
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  const std::uint16_t attribute = 0;
+  for (std::uint32_t t = 0; t < n; ++t) {
+    out.write(reinterpret_cast<const char*>(&tris[12 * t]), 12 * sizeof(float));
+    out.write(reinterpret_cast<const char*>(&attribute), sizeof attribute);
+  }
+  return true;
 }
 
 // The URDF copy for MuJoCo (see PreparedRobot); an error text, or "" on success.
 std::string writeMujocoUrdf(const RobotCase& c, PreparedRobot* p) {
-  std::string text = readText(c.urdf);
+  std::string text = readText(p->urdf);
   text = std::regex_replace(text, std::regex("<visual[\\s\\S]*?</visual>"), "");
   if (!c.contacts)
     text = std::regex_replace(text, std::regex("<collision[\\s\\S]*?</collision>"), "");
   const fs::path meshes = fs::path(p->dir) / "meshes";
   fs::create_directories(meshes);
-  const std::regex filename("filename\\s*=\\s*\"([^\"]*)\"");
+  const std::regex filename("filename\\s*=\\s*[\"']([^\"']*)[\"']");
   std::string out;
   auto last = text.cbegin();
   int k = 0;
   for (std::sregex_iterator it(text.begin(), text.end(), filename), end; it != end; ++it) {
-    const std::string target = resolveMesh(c, (*it)[1].str());
+    const std::string target = resolveMesh(c, p->urdf, (*it)[1].str());
     if (target.empty() || !fs::exists(target))
       return "mesh '" + (*it)[1].str() + "' of " + c.urdf + " not found";
     std::string stem = fs::path(target).stem().string();
     const std::string name = "m" + std::to_string(k++) + "_" + stem + ".stl";
-    fs::create_symlink(target, meshes / name);
+    if (!asciiStlToBinary(target, meshes / name)) fs::create_symlink(target, meshes / name);
     out.append(last, (*it)[0].first);
     out += "filename=\"" + name + "\"";
     last = (*it)[0].second;
@@ -105,12 +143,18 @@ std::string writeMujocoUrdf(const RobotCase& c, PreparedRobot* p) {
 
 // The temporary files of a case; an error text (the case is skipped), or "".
 std::string prepare(const RobotCase& c, const std::string& out_dir, PreparedRobot* p) {
-  if (!fs::exists(c.urdf))
+  if (!c.generate && !fs::exists(c.urdf))
     return c.urdf + " is absent (Debian package dart-doc: apt-get install dart-doc)";
   char tmpl[] = "/tmp/cga_bench_robots_XXXXXX";
   if (!::mkdtemp(tmpl)) return "cannot create a temporary directory";
   p->dir = tmpl;
   p->out_dir = out_dir;
+  p->urdf = c.urdf;
+  if (c.generate) {
+    fs::create_directories(fs::path(p->dir) / "generated");
+    p->urdf = (fs::path(p->dir) / (c.name + ".urdf")).string();
+    std::ofstream(p->urdf) << c.generate((fs::path(p->dir) / "generated").string());
+  }
   if (!c.packages.empty()) {
     const fs::path packages = fs::path(p->dir) / "packages";
     fs::create_directories(packages);

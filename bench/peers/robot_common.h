@@ -27,10 +27,12 @@ namespace robots {
 // sweep: a package directory of symlinks on ROS_PACKAGE_PATH (for package:// URIs), and the
 // URDF copy MuJoCo reads: visuals removed (MuJoCo 2.2 cannot read Collada), for cases without
 // contacts the collisions too, every collision mesh a symlink meshes/m<k>_<name>.stl (MuJoCo
-// reads STL by a lower-case extension, resolves no package:// and strips directories) and
+// reads STL by a lower-case extension, resolves no package:// and strips directories; an ASCII
+// STL, which MuJoCo 2.2 cannot read, is written there as binary STL instead) and
 // <mujoco><compiler meshdir=... discardvisual="true" fusestatic="false"/></mujoco> in <robot>.
 struct PreparedRobot {
   std::string dir;
+  std::string urdf;  // the case's URDF (RobotCase::urdf, or the one written by `generate`)
   std::string mujoco_urdf;
   std::string out_dir;  // bench/out (files one runner leaves for another: robot_pairs_<case>.txt)
 };
