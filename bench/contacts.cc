@@ -41,6 +41,7 @@
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "contact_common.h"
 #include "robot_common.h"
@@ -193,10 +194,16 @@ class CgaRobotSim : public ::bench::robots::RobotSim {
     const std::vector<sim::ContactReport> contacts = world_->contacts();
     o.contacts = static_cast<int>(contacts.size());
     double depth = 0;
-    for (const sim::ContactReport& k : contacts) depth = std::max(depth, k.depth);
-    char b[200];
-    std::snprintf(b, sizeof b, "max depth %.3g m; energy balance %.3g J (dissipated %.4g J)", depth,
-                  energy() - e0_, m.back().dissipated_energy);
+    std::string deepest;
+    int self = 0;
+    for (const sim::ContactReport& k : contacts) {
+      if (k.body_b != sim::kGroundPlaneName) ++self;
+      if (k.depth > depth) depth = k.depth, deepest = k.link_a + "/" + k.link_b;
+    }
+    char b[300];
+    std::snprintf(b, sizeof b,
+                  "self %d; max depth %.3g m (%s); energy balance %.3g J (dissipated %.4g J)", self,
+                  depth, deepest.c_str(), energy() - e0_, m.back().dissipated_energy);
     o.note = b;
     if (world_->treeFaultCount() > 0)
       o.note += "; " + std::to_string(world_->treeFaultCount()) +

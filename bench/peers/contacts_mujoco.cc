@@ -237,13 +237,21 @@ class MujocoRobotSim : public bench::robots::RobotSim {
     o.contacts = d->ncon;
     int self = 0;
     double depth = 0;
+    std::string deepest;
     for (int k = 0; k < d->ncon; ++k) {
       const mjContact& con = d->contact[k];
       if (con.geom1 != floor_ && con.geom2 != floor_) ++self;
-      depth = std::max(depth, -con.dist);
+      if (-con.dist > depth) {
+        depth = -con.dist;
+        const auto body = [&](int g) {
+          return g == floor_ ? std::string("floor") : mj_id2name(m_, mjOBJ_BODY, m_->geom_bodyid[g]);
+        };
+        deepest = body(con.geom1) + "/" + body(con.geom2);
+      }
     }
     mj_deleteData(d);
-    o.note = fmt("self %d; max depth %.3g m; energy change %.4g J", self, depth, e - e0_);
+    o.note = fmt("self %d; max depth %.3g m (%s); energy change %.4g J", self, depth,
+                 deepest.c_str(), e - e0_);
     if (d_->warning[mjWARN_CONTACTFULL].number) o.note += "; CONTACTFULL";
     if (d_->warning[mjWARN_CNSTRFULL].number) o.note += "; CNSTRFULL";
     if (d_->warning[mjWARN_BADQACC].number) o.note += "; BADQACC(reset)";
