@@ -161,7 +161,7 @@ class CgaContactSim : public ::bench::contacts::ContactSim {
 class CgaRobotSim : public ::bench::robots::RobotSim {
  public:
   CgaRobotSim(const ::bench::robots::RobotCase& c, const ::bench::robots::PreparedRobot& p,
-              bool sleeping)
+              bool sleeping, const std::string& integrator)
       : root_(c.root_link) {
     Result<scene::Scene> loaded = scene::loadUrdfFile(p.urdf, scene::SceneOptions());
     if (!loaded) throw std::runtime_error("loading " + p.urdf + ": " + loaded.error());
@@ -170,6 +170,7 @@ class CgaRobotSim : public ::bench::robots::RobotSim {
       for (scene::BodyModel& b : s.bodies) b.shapes.clear();
     sim::WorldConfig config;
     config.dt = c.h;
+    config.integrator = integrator;
     config.threads = 1;
     config.contact_sleeping = sleeping;
     if (c.contacts) config.ground_plane = sim::GroundPlane{c.ground_z, {}};
@@ -207,7 +208,7 @@ class CgaRobotSim : public ::bench::robots::RobotSim {
     o.note = b;
     if (world_->treeFaultCount() > 0)
       o.note += "; " + std::to_string(world_->treeFaultCount()) +
-                " tree faults: " + world_->lastTreeFault()->message().substr(0, 160);
+                " tree faults: " + world_->lastTreeFault()->message().substr(0, 400);
     return o;
   }
 
@@ -230,15 +231,19 @@ int main(int argc, char** argv) {
   using cga_rigid_sim::benchmark::CgaContactSim;
   if (bench::robots::robotsRequested(argc, argv)) {
     using cga_rigid_sim::benchmark::CgaRobotSim;
-    auto make = [](bool sleeping) {
-      return [sleeping](const bench::robots::RobotCase& c, const bench::robots::PreparedRobot& p)
-                 -> std::unique_ptr<bench::robots::RobotSim> {
-        return std::make_unique<CgaRobotSim>(c, p, sleeping);
-      };
+    auto make = [](bool sleeping, const std::string& integrator) {
+      return
+          [sleeping, integrator](
+              const bench::robots::RobotCase& c,
+              const bench::robots::PreparedRobot& p) -> std::unique_ptr<bench::robots::RobotSim> {
+            return std::make_unique<CgaRobotSim>(c, p, sleeping, integrator);
+          };
     };
     std::vector<bench::robots::RobotConfig> robot_configs = {
-        {"auto", make(true)},
-        {"auto_awake", make(false), [](const bench::robots::RobotCase& c) { return c.contacts; }},
+        {"auto", make(true, "auto")},
+        {"auto_awake", make(false, "auto"),
+         [](const bench::robots::RobotCase& c) { return c.contacts; }},
+        {"euler", make(true, "euler")},
     };
     return bench::robots::runRobotSweep("cga_rigid_sim", "cga_rigid_sim (this build)",
                                         robot_configs, argc, argv);
