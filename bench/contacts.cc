@@ -15,10 +15,23 @@
 // every step, pile1000 once at 1 ms. Output: bench/out/contacts_cga_rigid_sim.csv and
 // cpu_contacts_cga_rigid_sim.csv; config = the integrator (--configs, default `auto`; any name
 // of dynamics::integratorNames()).
+//
+// With --robots, the real robots of bench/peers/robot_cases.h instead (driver
+// bench/peers/robot_common.h): each URDF loaded by scene::loadUrdfFile (default SceneOptions),
+// in a sim::World with WorldConfig dt = the case's h, integrator `auto`, one thread, and for a
+// contact case the ground plane at the case's height, μ 0.5 and e 0 (the defaults) and
+// self_collision `auto`; for a case without contacts every collision shape dropped. Configs:
+// `auto` (the defaults, contact sleeping on) and, for contact cases, `auto_awake` (contact
+// sleeping off: every body in contact solved every step, as the peers do). The pairs our World
+// lets collide are written to bench/out/robot_pairs_<case>.txt for the peers' `our_pairs`.
+// Output: bench/out/robots_cga_rigid_sim.csv.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,8 +40,11 @@
 #include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/scene/scene.h"
+#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "contact_common.h"
+#include "robot_common.h"
 
 namespace cga_rigid_sim {
 namespace benchmark {
@@ -141,12 +157,97 @@ class CgaContactSim : public ::bench::contacts::ContactSim {
   std::unique_ptr<sim::World> world_;
 };
 
+// A real robot (bench/peers/robot_cases.h) in a World; see the header comment.
+class CgaRobotSim : public ::bench::robots::RobotSim {
+ public:
+  CgaRobotSim(const ::bench::robots::RobotCase& c, const ::bench::robots::PreparedRobot& p,
+              bool sleeping, const std::string& integrator)
+      : root_(c.root_link) {
+    Result<scene::Scene> loaded = scene::loadUrdfFile(p.urdf, scene::SceneOptions());
+    if (!loaded) throw std::runtime_error("loading " + p.urdf + ": " + loaded.error());
+    scene::Scene s = std::move(loaded).value();
+    if (!c.contacts)
+      for (scene::BodyModel& b : s.bodies) b.shapes.clear();
+    sim::WorldConfig config;
+    config.dt = c.h;
+    config.integrator = integrator;
+    config.threads = 1;
+    config.contact_sleeping = sleeping;
+    if (c.contacts) config.ground_plane = sim::GroundPlane{c.ground_z, {}};
+    auto w = sim::World::create(std::move(s), config);
+    if (!w) throw std::runtime_error("World::create: " + w.error());
+    world_ = std::move(w).value();
+    if (c.contacts) {
+      std::ofstream pairs(::bench::robots::pairsFile(p, c));
+      for (const auto& [a, b] : world_->selfCollisionPairs()) pairs << a << " " << b << "\n";
+    }
+    e0_ = energy();
+  }
+  void step(long n) override { world_->step(static_cast<std::uint64_t>(n)); }
+  ::bench::robots::RobotObs observe() override {
+    ::bench::robots::RobotObs o;
+    const std::vector<sim::MomentumReport> m = world_->momentum();
+    o.kinetic = m.back().kinetic_energy;
+    if (!root_.empty()) {
+      Result<sim::BodyStateReport> r = world_->getBodyState(root_);
+      if (r) o.root_z = r->pose_root.translation().z();
+    }
+    const std::vector<sim::ContactReport> contacts = world_->contacts();
+    o.contacts = static_cast<int>(contacts.size());
+    double depth = 0;
+    std::string deepest;
+    int self = 0;
+    for (const sim::ContactReport& k : contacts) {
+      if (k.body_b != sim::kGroundPlaneName) ++self;
+      if (k.depth > depth) depth = k.depth, deepest = k.link_a + "/" + k.link_b;
+    }
+    char b[300];
+    std::snprintf(b, sizeof b,
+                  "self %d; max depth %.3g m (%s); energy balance %.3g J (dissipated %.4g J)", self,
+                  depth, deepest.c_str(), energy() - e0_, m.back().dissipated_energy);
+    o.note = b;
+    if (world_->treeFaultCount() > 0)
+      o.note += "; " + std::to_string(world_->treeFaultCount()) +
+                " tree faults: " + world_->lastTreeFault()->message().substr(0, 400);
+    return o;
+  }
+
+ private:
+  // Kinetic + potential + dissipated: constant but for the work of inputs (none here).
+  double energy() const {
+    const sim::MomentumReport t = world_->momentum().back();
+    return t.kinetic_energy + t.potential_energy + t.dissipated_energy;
+  }
+  std::unique_ptr<sim::World> world_;
+  std::string root_;
+  double e0_ = 0;
+};
+
 }  // namespace
 }  // namespace benchmark
 }  // namespace cga_rigid_sim
 
 int main(int argc, char** argv) {
   using cga_rigid_sim::benchmark::CgaContactSim;
+  if (bench::robots::robotsRequested(argc, argv)) {
+    using cga_rigid_sim::benchmark::CgaRobotSim;
+    auto make = [](bool sleeping, const std::string& integrator) {
+      return
+          [sleeping, integrator](
+              const bench::robots::RobotCase& c,
+              const bench::robots::PreparedRobot& p) -> std::unique_ptr<bench::robots::RobotSim> {
+            return std::make_unique<CgaRobotSim>(c, p, sleeping, integrator);
+          };
+    };
+    std::vector<bench::robots::RobotConfig> robot_configs = {
+        {"auto", make(true, "auto")},
+        {"auto_awake", make(false, "auto"),
+         [](const bench::robots::RobotCase& c) { return c.contacts; }},
+        {"euler", make(true, "euler")},
+    };
+    return bench::robots::runRobotSweep("cga_rigid_sim", "cga_rigid_sim (this build)",
+                                        robot_configs, argc, argv);
+  }
   // One config per integrator; without --configs only `auto` runs (the default integrator).
   bool configs_given = false;
   for (int i = 1; i < argc; ++i)

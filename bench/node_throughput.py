@@ -22,6 +22,14 @@ the first and last /clock message received in the window is the achieved real-ti
 divided by dt, the steps per second. Results go to bench/out/node_throughput.csv (with the
 node's thread count, as it logs it, and which subscriber counted).
 
+With --atlas the scene is instead Atlas v3 without head from Debian's dart-doc
+(/usr/share/doc/dart/data/sdf/atlas/atlas_v3_no_head.urdf: 28 moving bodies, 27 joints, STL
+collision meshes; skipped with a message when dart-doc is absent) with ~ground_plane 1 cm below
+its soles and ~self_collision auto, falling and then lying on the plane (the real-robot case of
+the contact benchmark, bench/peers/robot_cases.h); n_bodies is 28 and the results go to
+bench/out/node_throughput_atlas.csv. Its window starts at the first /clock (--warmup 0 unless
+given), so that it holds the fall.
+
 Everything runs against a private roscore on a free port (ROS_HOME in a temporary directory), so
 other ROS work on the machine is not disturbed. Every process started here (roscore and its
 children, each node) is started in its own process group and ended on exit, also on errors and
@@ -52,6 +60,10 @@ COLUMNS = ["n_bodies", "real_time_factor", "publish_rate_hz", "integrator", "dt"
            "window_s", "sim_s", "steps_per_s", "achieved_rtf", "ns_per_body_step",
            "tf_received_per_s", "tf_received_mb_per_s", "momentum_received_per_s",
            "body_states_received_per_s", "body_states_received_mb_per_s", "subscriber", "status"]
+# --atlas: the URDF, its moving bodies, the plane 1 cm below its lowest point (robot_cases.h).
+ATLAS_URDF = "/usr/share/doc/dart/data/sdf/atlas/atlas_v3_no_head.urdf"
+ATLAS_BODIES = 28
+ATLAS_GROUND_Z = -0.927351 - 0.01
 # The counted topics, in the order of the counts (node name "simulator").
 COUNTED_TOPICS = ["/tf", "/simulator/momentum", "/simulator/body_states"]
 
@@ -274,11 +286,14 @@ def measure(rospy, monitor, counter, node_proc, args, n, rtf, urdf, state_yaml, 
     name = "simulator"
     if rospy.has_param("/" + name):
         rospy.delete_param("/" + name)
-    with open(state_yaml) as f:
-        initial = (yaml.safe_load(f) or {}).get("initial_state")
+    initial = None
+    if state_yaml:
+        with open(state_yaml) as f:
+            initial = (yaml.safe_load(f) or {}).get("initial_state")
     params = {"urdf_file": urdf, "real_time_factor": float(rtf), "dt": args.dt,
               "integrator": integrator, "publish_rate": args.publish_rate,
               "publish_clock": True, "clock_rate": args.publish_rate}
+    params.update(args.node_params)
     if initial:
         params["initial_state"] = initial
     rospy.set_param("/" + name, params)
@@ -357,14 +372,32 @@ def main():
                     help="the subscriber that counts (default: bench_topic_counter next to "
                          "--node, else in this checkout's build); if absent, rospy counts")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "out"))
+    ap.add_argument("--threads", type=int, default=0,
+                    help="~threads of the node (0: its default, the cores available)")
+    ap.add_argument("--atlas", action="store_true",
+                    help="Atlas (dart-doc) falling onto ~ground_plane instead of free boxes")
     args = ap.parse_args()
+    args.node_params = {}
+    if args.atlas:
+        if not os.path.isfile(ATLAS_URDF):
+            print("node_throughput: skipped: %s is absent (Debian package dart-doc)" % ATLAS_URDF,
+                  file=sys.stderr)
+            return 0
+        args.ns, args.extra = str(ATLAS_BODIES), ""
+        if "--warmup" not in sys.argv:
+            args.warmup = 0.0
+        args.node_params = {"ground_plane": {"height": ATLAS_GROUND_Z},
+                            "self_collision": "auto"}
+    if args.threads > 0:
+        args.node_params["threads"] = args.threads
     ns = [int(x) for x in args.ns.split(",") if x]
     rtfs = [x for x in args.rtfs.split(",") if x]
     runs = [(n, args.integrator) for n in ns]  # (N, integrator), in order
     for item in [x for x in args.extra.split(",") if x]:
         n, integrator = item.split(":")
         runs.append((int(n), integrator))
-    csv_path = os.path.join(args.out, "node_throughput.csv")
+    csv_path = os.path.join(args.out,
+                            "node_throughput_atlas.csv" if args.atlas else "node_throughput.csv")
     if args.counter is None:
         beside = os.path.join(os.path.dirname(os.path.abspath(args.node)), "bench_topic_counter")
         args.counter = beside if os.path.isfile(beside) else DEFAULT_COUNTER
@@ -434,7 +467,7 @@ def main():
         scenes = {}
         for n, integrator in runs:
             if n not in scenes:
-                scenes[n] = make_scene(n, tmp)
+                scenes[n] = (ATLAS_URDF, None) if args.atlas else make_scene(n, tmp)
             urdf, state = scenes[n]
             for rtf in rtfs:
                 t0 = time.monotonic()
