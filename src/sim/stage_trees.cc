@@ -179,6 +179,15 @@ double limitedStepBook(const Model& model, const Data& data, int t) {
   return E0 + 0.5 * model.config.dt * (P0 + P1) - treeEnergy(model, t, kin);
 }
 
+// A contact step's fault of `rule`: its value and bound, named by the tree's deepest contact.
+void contactFault(const Model& model, Data& data, int t, TreeFaults::Rule rule, double value,
+                  double bound) {
+  TreeFaults& f = recordFault(data, t, rule);
+  f.value = value;
+  f.bound = bound;
+  deepestContactOf(model, data, t, f);
+}
+
 // The checks of a contact step (doc/articulated.md#faults): the energy may not rise beyond the
 // inputs' work, a floating tree's momentum must be the expected one. Records the fault and
 // returns true when one is broken.
@@ -196,10 +205,7 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
   // kick's rates, ½ h τ·(ν_kicked − ν').
   const double rise = -(booked + td.contact_kick_work - td.contact_book_work) - td.contact_transfer;
   if (rise > energy_bound) {
-    TreeFaults& f = recordFault(data, t, TreeFaults::Rule::kEnergy);
-    f.value = rise;
-    f.bound = energy_bound;
-    deepestContactOf(model, data, t, f);
+    contactFault(model, data, t, TreeFaults::Rule::kEnergy, rise, energy_bound);
     return true;
   }
   if (!tm.body.floating()) return false;
@@ -220,10 +226,7 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
   if (td.integrator->conservesMomentum()) error = std::max(error, distance(Pi, solved));
   const double momentum_bound = kMomentumTolerance * (td.contact_momentum_scale + 1e-9);
   if (error > momentum_bound) {
-    TreeFaults& f = recordFault(data, t, TreeFaults::Rule::kMomentum);
-    f.value = error;
-    f.bound = momentum_bound;
-    deepestContactOf(model, data, t, f);
+    contactFault(model, data, t, TreeFaults::Rule::kMomentum, error, momentum_bound);
     return true;
   }
   return false;
