@@ -16,6 +16,7 @@
 // These are worst-case bounds, loose by orders of magnitude, yet any error of the algebra (a
 // wrong sign, a wrong blade) shows up at O(1) relative size, far above them.
 #include "cga_rigid_sim/cga/multivector.h"
+#include "cga_rigid_sim/math/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -36,7 +37,7 @@ using MV = Multivector;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kInputRelErr = 8 * kEps;
 const double kSqrt32 = std::sqrt(32.0);
-const double kPi = std::acos(-1.0);
+using math::kPi;
 
 // Round-off bound, per coefficient, of a product of factors with coefficient norms `norms`
 // (derivation in the file comment).

@@ -8,6 +8,7 @@
 // to the box's size (the mesh is integrated about one of its vertices, so a far-away placement
 // costs no cancellation beyond the final shift). A wrong formula is off by O(1).
 #include "cga_rigid_sim/scene/mass_properties.h"
+#include "cga_rigid_sim/math/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -28,7 +29,7 @@ namespace scene {
 namespace {
 
 namespace fs = std::filesystem;
-const double kPi = std::acos(-1.0);
+using math::kPi;
 constexpr double kRelTol = 1e-12;
 
 void expectClose(const MassProperties& got, double mass, const Eigen::Vector3d& com,
