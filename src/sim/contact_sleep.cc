@@ -67,7 +67,7 @@ double linkSpeed(const Model& model, const Data& data, int i) {
 void putTreeToSleep(const Model& model, Data& data, int t) {
   TreeData& td = data.trees[t];
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
-  static thread_local dynamics::TreeKinematics kin;
+  dynamics::TreeKinematics& kin = data.tree_scratch.sleep_kin;
   dynamics::treeKinematics(tree, td.state, kin);
   const double E_now = treeEnergy(model, t, kin);
   const double T_now = dynamics::kineticEnergy(tree, kin);
