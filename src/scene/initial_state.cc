@@ -45,8 +45,6 @@ std::string allowedKeys() {
   return s;
 }
 
-std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
-
 // "rad" or "m" for a joint position; "rad/s" or "m/s" for its velocity.
 const char* positionUnit(JointType t) { return t == JointType::kPrismatic ? "m" : "rad"; }
 const char* velocityUnit(JointType t) { return t == JointType::kPrismatic ? "m/s" : "rad/s"; }
