@@ -527,11 +527,16 @@ void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, do
 #undef CGA_ALWAYS_INLINE
 #undef CGA_FMA_CLONES
 
-void Cga2Integrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
-                          BodyState& state) {
-  static constexpr double kGamma[1] = {1.0};
-  splitting::composeStrang(inertia, loads, lambda, h, kGamma, 1, cache_, state);
+void StrangCompositionIntegrator::step(const Inertia& inertia, const Loads& loads, double lambda,
+                                       double h, BodyState& state) {
+  splitting::composeStrang(inertia, loads, lambda, h, gamma_, stages_, cache_, state);
 }
+
+namespace {
+constexpr double kStrangGamma[1] = {1.0};
+}  // namespace
+
+Cga2Integrator::Cga2Integrator() : StrangCompositionIntegrator("cga2", kStrangGamma, 1) {}
 
 }  // namespace dynamics
 }  // namespace cga_rigid_sim
