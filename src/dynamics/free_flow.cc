@@ -6,8 +6,8 @@
 
 #include "atan_series.h"
 #include "cga_rigid_sim/dynamics/loads.h"
-#include "elliptic.h"
 #include "cga_rigid_sim/math/sin_cos.h"
+#include "elliptic.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {

@@ -88,9 +88,9 @@ Result<std::unique_ptr<TreeIntegrator>> makeTreeIntegrator(const std::string& na
                                                      treeIntegratorNames().end()),
                             " or "));
   }
-  return Error("integrator", "",
-               "unknown integrator '" + name + "' for trees (" +
-                   listed(treeIntegratorNames(), ", ") + ")");
+  return Error(
+      "integrator", "",
+      "unknown integrator '" + name + "' for trees (" + listed(treeIntegratorNames(), ", ") + ")");
 }
 
 }  // namespace dynamics

@@ -177,7 +177,8 @@ ParamValue toParamValue(const FlowValue& v) {
     }
     case FlowValue::Type::kMap: {
       ParamValue::Map map;
-      for (std::size_t k = 0; k < v.items.size(); ++k) map.emplace(v.keys[k], toParamValue(v.items[k]));
+      for (std::size_t k = 0; k < v.items.size(); ++k)
+        map.emplace(v.keys[k], toParamValue(v.items[k]));
       return ParamValue(std::move(map));
     }
   }

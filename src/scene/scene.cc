@@ -43,9 +43,7 @@ int Scene::findLink(const std::string& link, int* link_index) const {
   return -1;
 }
 
-const std::vector<std::string>& summaryIntegratorNames() {
-  return dynamics::integratorNames();
-}
+const std::vector<std::string>& summaryIntegratorNames() { return dynamics::integratorNames(); }
 
 std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
                                   const std::string& integrator) {

@@ -16,7 +16,6 @@
 // These are worst-case bounds, loose by orders of magnitude, yet any error of the algebra (a
 // wrong sign, a wrong blade) shows up at O(1) relative size, far above them.
 #include "cga_rigid_sim/cga/multivector.h"
-#include "cga_rigid_sim/math/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -27,6 +26,8 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+
+#include "cga_rigid_sim/math/constants.h"
 
 namespace cga_rigid_sim {
 namespace cga {

@@ -23,7 +23,7 @@ TEST(FlowText, PlainScalarsTakeTheParameterServersTypes) {
   EXPECT_EQ(parsed("42").type, Type::kInt);
   EXPECT_EQ(parsed(" -7 ").i, -7);
   EXPECT_EQ(parsed("4294967296").type, Type::kDouble);  // past int: a double
-  EXPECT_EQ(parsed("1e-3").d, 1e-3);                     // YAML 1.1 leaves it a string
+  EXPECT_EQ(parsed("1e-3").d, 1e-3);                    // YAML 1.1 leaves it a string
   EXPECT_TRUE(std::isnan(parsed("nan").d));
   EXPECT_EQ(parsed("0x10").d, 16.0);  // strtod reads hex
   for (const char* t : {"true", "Yes", "ON"}) {
@@ -57,8 +57,8 @@ TEST(FlowText, ListsAndMapsNest) {
 }
 
 TEST(FlowText, WhatIsNotFlowTextIsRefused) {
-  for (const char* t : {"", "  ", "[1, 2", "{a: 1", "{a 1}", "{a: 1, a: 2}", "[1] x", "'open",
-                        "[1,, 2]", "{: 1}"})
+  for (const char* t :
+       {"", "  ", "[1, 2", "{a: 1", "{a 1}", "{a: 1, a: 2}", "[1] x", "'open", "[1,, 2]", "{: 1}"})
     EXPECT_FALSE(parseFlowText(t).has_value()) << t;
   // Nesting up to kFlowMaxDepth is read, one more level is refused (the stack stays bounded).
   const auto nested = [](int levels) {

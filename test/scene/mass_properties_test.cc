@@ -8,7 +8,6 @@
 // to the box's size (the mesh is integrated about one of its vertices, so a far-away placement
 // costs no cancellation beyond the final shift). A wrong formula is off by O(1).
 #include "cga_rigid_sim/scene/mass_properties.h"
-#include "cga_rigid_sim/math/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +20,7 @@
 #include <fstream>
 #include <string>
 
+#include "cga_rigid_sim/math/constants.h"
 #include "cga_rigid_sim/scene/mesh.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 

@@ -6,7 +6,7 @@
 namespace cga_rigid_sim {
 namespace math {
 
-constexpr double kPi = 3.141592653589793;      ///< fl(π) (= M_PI = std::acos(-1.0))
+constexpr double kPi = 3.141592653589793;         ///< fl(π) (= M_PI = std::acos(-1.0))
 constexpr double kPiLo = 1.2246467991473532e-16;  ///< π − fl(π), rounded
 constexpr double kHalfPi = 0.5 * kPi;
 constexpr double kHalfPiLo = 0.5 * kPiLo;

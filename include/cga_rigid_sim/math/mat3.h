@@ -35,6 +35,16 @@ inline void mulSymmetric(const double* S, const double* x, double* y) {
   y[1] = S[3] * x[0] + S[1] * x[1] + S[5] * x[2];
   y[2] = S[4] * x[0] + S[5] * x[1] + S[2] * x[2];
 }
+/// out = A Rᵀ (six numbers) where A = R X with X symmetric, so that A Rᵀ is symmetric: the rows
+/// of A against the rows of R, upper triangle only.
+inline void symmetricRowsTimesRt(const double* A, const double* R, double* out) {
+  out[0] = dot(A, R);
+  out[1] = dot(A + 3, R + 3);
+  out[2] = dot(A + 6, R + 6);
+  out[3] = dot(A, R + 3);
+  out[4] = dot(A, R + 6);
+  out[5] = dot(A + 3, R + 6);
+}
 /// out = R S Rᵀ (six numbers) for a symmetric S (six numbers): R S by rows, then its rows
 /// against R's.
 inline void rotateSymmetric(const double* R, const double* S, double* out) {
@@ -45,24 +55,14 @@ inline void rotateSymmetric(const double* R, const double* S, double* out) {
     RS[3 * i + 1] = r0 * S[3] + r1 * S[1] + r2 * S[5];
     RS[3 * i + 2] = r0 * S[4] + r1 * S[5] + r2 * S[2];
   }
-  out[0] = dot(RS, R);
-  out[1] = dot(RS + 3, R + 3);
-  out[2] = dot(RS + 6, R + 6);
-  out[3] = dot(RS, R + 3);
-  out[4] = dot(RS, R + 6);
-  out[5] = dot(RS + 3, R + 6);
+  symmetricRowsTimesRt(RS, R, out);
 }
 /// out = R diag(d) Rᵀ (six numbers).
 inline void rotateDiagonal(const double* R, const double* d, double* out) {
   double RD[9];
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) RD[3 * r + c] = R[3 * r + c] * d[c];
-  out[0] = dot(RD, R);
-  out[1] = dot(RD + 3, R + 3);
-  out[2] = dot(RD + 6, R + 6);
-  out[3] = dot(RD, R + 3);
-  out[4] = dot(RD, R + 6);
-  out[5] = dot(RD + 3, R + 6);
+  symmetricRowsTimesRt(RD, R, out);
 }
 
 }  // namespace math

@@ -43,13 +43,13 @@ inline void sinCosReduced(double x, double& s, double& c) {
   // sin y = y + y z (−1/3! + z (1/5! − z (1/7! − …)))
   const double ps =
       -kInv3 +
-      z * (kInv5 + z * (-kInv7 + z * (kInv9 + z * (-kInv11 + z * (kInv13 + z * (-kInv15 +
-                                                                                z * kInv17))))));
+      z * (kInv5 +
+           z * (-kInv7 + z * (kInv9 + z * (-kInv11 + z * (kInv13 + z * (-kInv15 + z * kInv17))))));
   // cos y = 1 − z/2 + z² (1/4! − z (1/6! − …))
   const double pc =
       kInv4 +
-      z * (-kInv6 + z * (kInv8 + z * (-kInv10 + z * (kInv12 + z * (-kInv14 + z * (kInv16 +
-                                                                                 z * -kInv18))))));
+      z * (-kInv6 +
+           z * (kInv8 + z * (-kInv10 + z * (kInv12 + z * (-kInv14 + z * (kInv16 + z * -kInv18))))));
   const double sy = y + y * z * ps;
   const double half_z = 0.5 * z;
   const double hi = 1.0 - half_z;
