@@ -1,6 +1,6 @@
 // Fuzz target: the initial-state dictionary (applyInitialState, scene/initial_state.h). The
 // input's first line names one of the example scenes below (others: the first), the rest is
-// the dictionary in flow text (common/flow_text.h), e.g.
+// the dictionary in flow text, read by the node's own parser (scene/flow_text.h), e.g.
 //   double_pendulum
 //   {shoulder: {position: 0.7, velocity: 0.5}, elbow: {position: nan}}
 // Text that is not flow text is skipped. The scenes are loaded once; each input is applied to
@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/scene/flow_text.h"
 #include "cga_rigid_sim/scene/initial_state.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 #include "common/finite_scene.h"
-#include "common/flow_text.h"
 
 using namespace cga_rigid_sim;
 
@@ -73,13 +73,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::size_t index = 0;
   for (std::size_t k = 0; k < scenes().size(); ++k)
     if (scene_name == kScenes[k]) index = k;
-  const std::optional<scene::ParamValue> dict =
-      fuzz::parseFlowText(newline == std::string::npos ? std::string() : text.substr(newline + 1));
-  if (!dict) return 0;
+  const std::optional<scene::FlowValue> flow =
+      scene::parseFlowText(newline == std::string::npos ? std::string() : text.substr(newline + 1));
+  if (!flow) return 0;
+  const scene::ParamValue dict = scene::toParamValue(*flow);
 
   scene::Scene s = scenes()[index];
   const std::string before = fingerprint(s);
-  const Result<bool> applied = scene::applyInitialState(s, *dict);
+  const Result<bool> applied = scene::applyInitialState(s, dict);
   if (!applied.ok()) {
     if (fingerprint(s) != before)
       fuzz::fail("refused dictionary changed the scene: " + applied.error());

@@ -62,11 +62,13 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/math/constants.h"
+
 namespace bench {
 namespace contacts {
 
 constexpr double kG = 9.81;
-constexpr double kPi = 3.14159265358979323846;
+using cga_rigid_sim::math::kPi;
 
 enum class Shape { Sphere, Box };
 

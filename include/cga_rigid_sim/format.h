@@ -1,4 +1,5 @@
-// Numbers in messages: one way to print them, used by every layer's error and summary text.
+// Numbers and names in messages: one way to print them, used by every layer's error and summary
+// text.
 //
 // formatNumber prints like std::ostream with precision `significant_digits` (the default float
 // format: fixed or scientific, whichever is shorter, trailing zeros dropped), so 1.1 prints as
@@ -20,6 +21,9 @@ inline std::string formatNumber(double x, int significant_digits = 15) {
   os << x;
   return os.str();
 }
+
+/// 'name': a name as messages quote it.
+inline std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
 /// "(x, y, z)", each coordinate as formatNumber prints it.
 inline std::string formatVector(const Eigen::Vector3d& v, int significant_digits = 15) {

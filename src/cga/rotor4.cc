@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <complex>
 
+#include "cga_rigid_sim/math/sin_cos.h"
+
 namespace cga_rigid_sim {
 namespace cga {
 namespace {
@@ -97,7 +99,7 @@ Eigen::Vector4d vectorPart(const Full& F) { return {F[1], F[2], F[4], F[8]}; }
 constexpr double kSeriesLimit = 1e-2;
 template <class T>
 T sSeries(const T& z) {
-  return 1.0 + z * (1.0 / 6.0 + z * (1.0 / 120.0 + z * (1.0 / 5040.0 + z * (1.0 / 362880.0))));
+  return 1.0 + z * (math::kInv3 + z * (math::kInv5 + z * (math::kInv7 + z * math::kInv9)));
 }
 void coshSinhcReal(double z, double& C, double& S) {
   if (z >= 0) {

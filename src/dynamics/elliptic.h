@@ -11,7 +11,7 @@
 #include <limits>
 
 #include "cga_rigid_sim/dynamics/free_flow.h"
-#include "sin_cos.h"
+#include "cga_rigid_sim/math/sin_cos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -126,7 +126,7 @@ inline void jacobiSnCnDn(double u, const FreeFlowCache& c, double& sn, double& c
   }
   const double v = u * c.agm_limit;  // |v| ≤ K · agm = π/2
   double s, co, d = 1.0;
-  sinCosReduced(v, s, co);
+  math::sinCosReduced(v, s, co);
   if (s != 0.0) {
     double ratio = co / s;  // cot v
     double q = c.agm_limit * ratio;

@@ -15,19 +15,17 @@ Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& st
                                 const TreeKinematics& kin, const Eigen::VectorXd& tau,
                                 const BodyMoments& f_ext) {
   Eigen::VectorXd nu_dot;
-  forwardDynamics(tree, state, kin, tau, f_ext, nu_dot);
+  TreeWorkspace work;
+  forwardDynamics(tree, state, kin, tau, f_ext, nu_dot, work);
   return nu_dot;
 }
 
-namespace {
-// Scratch of the recursion, one per thread: no allocation once grown.
-struct AbaScratch {
-  std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> IA;
-  std::vector<Vector6d, Eigen::aligned_allocator<Vector6d>> pA, c, U;
-  std::vector<cga::Bivelocity> a;
-  std::vector<double> D, u;
-};
-}  // namespace
+void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
+                     const Eigen::VectorXd& tau, const BodyMoments& f_ext,
+                     Eigen::VectorXd& nu_dot) {
+  TreeWorkspace work;
+  forwardDynamics(tree, state, kin, tau, f_ext, nu_dot, work);
+}
 
 namespace {
 // With mimic joints the motion stays in ν = G ν_r (articulated_body.h): ν̇ = G M_r⁻¹ Gᵀ (τ − b)
@@ -36,19 +34,14 @@ namespace {
 // where ABA is O(n) — ABA's recursion has no room for a constraint between two branches.
 void mimicForwardDynamics(const ArticulatedBody& tree, const TreeState& state,
                           const TreeKinematics& kin, const Eigen::VectorXd& tau,
-                          const BodyMoments& f_ext, Eigen::VectorXd& nu_dot) {
-  struct Scratch {
-    Eigen::VectorXd zero, Q, Q_r;
-    Eigen::MatrixXd M, M_r;
-    tree_math::Cholesky llt;
-  };
-  static thread_local Scratch S;
+                          const BodyMoments& f_ext, Eigen::VectorXd& nu_dot, TreeWorkspace& work) {
+  TreeWorkspace::Mimic& S = work.mimic;
   S.zero.setZero(tree.velocityCount());
   S.Q = -inverseDynamics(tree, state, kin, S.zero, f_ext);
   S.Q.tail(tree.jointCount()) += tau;
-  massMatrix(tree, kin, S.M);
+  massMatrix(tree, kin, S.M, work);
   reduceForce(tree, S.Q, S.Q_r);
-  reduceMatrix(tree, S.M, S.M_r);
+  reduceMatrix(tree, S.M, S.M_r, work);
   S.llt.compute(S.M_r);
   S.llt.solveInPlace(S.Q_r);
   expandVelocity(tree, S.Q_r, nu_dot);
@@ -56,12 +49,12 @@ void mimicForwardDynamics(const ArticulatedBody& tree, const TreeState& state,
 }  // namespace
 
 void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
-                     const Eigen::VectorXd& tau, const BodyMoments& f_ext,
-                     Eigen::VectorXd& nu_dot) {
-  if (tree.hasMimic()) return mimicForwardDynamics(tree, state, kin, tau, f_ext, nu_dot);
+                     const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& nu_dot,
+                     TreeWorkspace& work) {
+  if (tree.hasMimic()) return mimicForwardDynamics(tree, state, kin, tau, f_ext, nu_dot, work);
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
-  static thread_local AbaScratch scratch;
+  TreeWorkspace::Aba& scratch = work.aba;
   auto& IA = scratch.IA;
   auto& pA = scratch.pA;
   auto& c = scratch.c;

@@ -6,8 +6,8 @@
 
 #include "atan_series.h"
 #include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/math/sin_cos.h"
 #include "elliptic.h"
-#include "sin_cos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -24,7 +24,8 @@ using elliptic::jacobiSnCnDn;
 static_assert(sizeof(void*) != 8 || sizeof(FreeFlowCache) <= 832,
               "FreeFlowCache grew: it is held per body by the exact and auto integrators");
 
-constexpr double kPi = 3.141592653589793;
+using math::kPi;
+using math::sinCosReduced;
 // Elliptic path: steps per run of the addition theorems, the first of them evaluated from the
 // anchor (doc/conventions.md (E32)).
 constexpr int kRunLength = 32;
@@ -49,12 +50,10 @@ constexpr double kStillMomentumSquared = 1e-250;
 // a product with 1/(2π) (no division on the hot path); where that rounds to the other side of
 // a half turn the result is ±π within an ulp, the same rotation.
 inline double reduceAngle(double x) {
-  constexpr double kTwoPiHi = 6.283185307179586;
-  constexpr double kTwoPiLo = 2.4492935982947064e-16;
   constexpr double kInvTwoPi = 0.15915494309189535;
   if (std::abs(x) <= kPi) return x;
   const double m = std::nearbyint(x * kInvTwoPi);
-  return std::fma(-m, kTwoPiHi, x) - m * kTwoPiLo;
+  return std::fma(-m, math::kTwoPi, x) - m * math::kTwoPiLo;
 }
 
 // Whether the whole number m is odd (every double beyond 2⁵³ is even).

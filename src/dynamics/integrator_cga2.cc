@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "cga_rigid_sim/math/sin_cos.h"
+
 namespace cga_rigid_sim {
 namespace dynamics {
 namespace splitting {
@@ -35,66 +37,18 @@ constexpr double kOne = 1.0;
 // a = 3 on the projectile; neither wins everywhere (doc/decisions.md, "the outer axis").
 constexpr int kRef = 1, kA = 0, kB = 2;
 
-// sin φ and versin φ = 1 − cos φ to full relative precision. versin is kept instead of cos
-// because every rotation below is applied as x + (sin·y − versin·x): the rounding of the
-// rotation matrix then only perturbs its determinant by O(ε φ²), so a rotation repeated a
-// million times does not drift |L| (with cos, det = cos² + sin² is off by O(ε) per piece, and
-// that bias accumulates when the angle repeats).
-//
-// The Taylor series are summed directly in z = φ² (Estrin's scheme, for a short dependency
-// chain: these sit on the critical path of a step), coefficients written as products (a
-// division by a constant is not turned into a multiplication without -ffast-math):
-//   fine,   φ² ≤ 2⁻¹⁵ (|φ| ≤ 0.0055): through φ⁵ and φ⁶, as t + (t z)(z/5! − 1/3!) and
-//           z/2 + z²(z/6! − 1/4!): two operations after z on the path to sin and versin instead
-//           of three (the common case at millisecond steps); the first omitted terms, φ⁷/7! and
-//           φ⁸/8!, are below 6e-18 relative to sin φ ≈ φ and versin φ ≈ φ²/2, ε/40;
-//   small,  |φ| ≤ 1/32: through φ⁷ and φ⁸; the first omitted terms, φ⁹/9! and φ¹⁰/10!, are
-//           below 3e-18 relative;
-//   medium, |φ| ≤ 1/2:  through φ¹³ and φ¹⁴; the first omitted terms, φ¹⁵/15! and φ¹⁶/16!,
-//           are below ε/4 relative;
-//   larger angles (a piece turning by more than half a radian): the library functions.
-constexpr double kInv3 = 1.0 / 6.0, kInv5 = 1.0 / 120.0, kInv7 = 1.0 / 5040.0,
-                 kInv9 = 1.0 / 362880.0, kInv11 = 1.0 / 39916800.0, kInv13 = 1.0 / 6227020800.0;
-constexpr double kInv4 = 1.0 / 24.0, kInv6 = 1.0 / 720.0, kInv8 = 1.0 / 40320.0,
-                 kInv10 = 1.0 / 3628800.0, kInv12 = 1.0 / 479001600.0, kInv14 = 1.0 / 87178291200.0;
-constexpr double kFineZ = 0x1p-15, kSmallZ = 1.0 / 1024.0, kMediumZ = 0.25;
+// sin φ and versin φ of an axis rotation: math/sin_cos.h (fine, small and medium series, the
+// library beyond).
+using math::kSinVersinFineZ;
+using math::kSinVersinMediumZ;
+using math::kSinVersinSmallZ;
+using math::sinVersinFine;
+using math::sinVersinFineWithHalf;
+using math::sinVersinLibrary;
+using math::sinVersinMedium;
+using math::sinVersinSmall;
 // Below φ² = 2⁻⁴⁰ a piece turns by shears (rotatePiece).
 constexpr double kTinyZ = 0x1p-40;
-
-CGA_ALWAYS_INLINE void sinVersinFine(double t, double z, double& s, double& v) {
-  s = t + (t * z) * (kInv5 * z - kInv3);
-  v = 0.5 * z + (z * z) * (kInv6 * z - kInv4);
-}
-// The fine series at φ and at φ/2 together, the half angle's coefficients scaled by powers of
-// two (sin(φ/2) = φ/2 − φ z/48 + φ z²/3840, versin(φ/2) = z/8 − z²/384 + z³/46080, z = φ²) so that
-// both share φ z and z²: the same roundings as sinVersinFine(φ/2, z/4) (every scaling is exact),
-// three operations fewer.
-CGA_ALWAYS_INLINE void sinVersinFineWithHalf(double t, double z, double& s, double& v, double& sh,
-                                             double& vh) {
-  const double tz = t * z, z2 = z * z;
-  s = t + tz * (kInv5 * z - kInv3);
-  v = 0.5 * z + z2 * (kInv6 * z - kInv4);
-  sh = 0.5 * t + tz * ((kInv5 / 32.0) * z - kInv3 / 8.0);
-  vh = 0.125 * z + z2 * ((kInv6 / 64.0) * z - kInv4 / 16.0);
-}
-CGA_ALWAYS_INLINE void sinVersinSmall(double t, double z, double& s, double& v) {
-  // Grouped for a chain of four operations after z (the compiler keeps the order as written).
-  const double z2 = z * z;
-  s = (t - (kInv3 * t) * z) + (t * z2) * (kInv5 - kInv7 * z);
-  v = (0.5 * z - kInv4 * z2) + (z2 * z) * (kInv6 - kInv8 * z);
-}
-CGA_ALWAYS_INLINE void sinVersinMedium(double t, double z, double& s, double& v) {
-  const double z2 = z * z, z4 = z2 * z2;
-  s = t *
-      ((1.0 - kInv3 * z) + z2 * (kInv5 - kInv7 * z) + z4 * ((kInv9 - kInv11 * z) + kInv13 * z2));
-  v = z *
-      ((0.5 - kInv4 * z) + z2 * (kInv6 - kInv8 * z) + z4 * ((kInv10 - kInv12 * z) + kInv14 * z2));
-}
-inline void sinVersinLibrary(double t, double& s, double& v) {
-  s = std::sin(t);
-  const double c = std::cos(t);
-  v = c > 0.0 ? s * s / (1.0 + c) : 1.0 - c;  // no cancellation in 1 − cos near 0
-}
 
 // A quaternion as four plain doubles (Hamilton, i = −e23, j = −e31, k = −e12).
 struct Quat {
@@ -167,9 +121,9 @@ CGA_ALWAYS_INLINE void rotatePiece(double tau, const double* ratio, FreeFlow& f,
   const double phi = tau * f.w[I], z = phi * phi;
   double sh, vh;
   if (z <= kTinyZ) {
-    const double s = phi - (kInv3 * phi) * z;
+    const double s = phi - (math::kInv3 * phi) * z;
     const double t = 0.5 * phi + (0.5 / 12.0) * phi * z;
-    sh = 0.5 * phi - (0.5 * kInv3 * 0.25) * phi * z;
+    sh = 0.5 * phi - (0.5 * math::kInv3 * 0.25) * phi * z;
     vh = 0.125 * z;
     const double wj = f.w[J] + t * (ratio[2 * I] * f.w[K]);
     f.w[K] -= s * (ratio[2 * I + 1] * wj);
@@ -181,12 +135,12 @@ CGA_ALWAYS_INLINE void rotatePiece(double tau, const double* ratio, FreeFlow& f,
     }
   } else {
     double s, k;
-    if (z <= kFineZ) {
+    if (z <= kSinVersinFineZ) {
       sinVersinFineWithHalf(phi, z, s, k, sh, vh);
-    } else if (z <= kSmallZ) {
+    } else if (z <= kSinVersinSmallZ) {
       sinVersinSmall(phi, z, s, k);
       sinVersinSmall(0.5 * phi, 0.25 * z, sh, vh);
-    } else if (z <= kMediumZ) {
+    } else if (z <= kSinVersinMediumZ) {
       sinVersinMedium(phi, z, s, k);
       sinVersinMedium(0.5 * phi, 0.25 * z, sh, vh);
     } else {
@@ -249,11 +203,11 @@ CGA_ALWAYS_INLINE FreeFlow beginFreeFlow(double tau, const Cache& c, const doubl
   const double a[3] = {k * (c.g[0] * w[0]), k * (c.g[1] * w[1]), k * (c.g[2] * w[2])};
   const double z = z_given ? *z_given : (a[0] * a[0] + a[1] * a[1]) + a[2] * a[2];
   double sigma, nu;
-  if (z <= kFineZ) {
+  if (z <= kSinVersinFineZ) {
     sinVersinFine(1.0, z, sigma, nu);
-  } else if (z <= kSmallZ) {
+  } else if (z <= kSinVersinSmallZ) {
     sinVersinSmall(1.0, z, sigma, nu);
-  } else if (z <= kMediumZ) {
+  } else if (z <= kSinVersinMediumZ) {
     sinVersinMedium(1.0, z, sigma, nu);
   } else {
     const double t = std::sqrt(z);
@@ -573,11 +527,16 @@ void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, do
 #undef CGA_ALWAYS_INLINE
 #undef CGA_FMA_CLONES
 
-void Cga2Integrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
-                          BodyState& state) {
-  static constexpr double kGamma[1] = {1.0};
-  splitting::composeStrang(inertia, loads, lambda, h, kGamma, 1, cache_, state);
+void StrangCompositionIntegrator::step(const Inertia& inertia, const Loads& loads, double lambda,
+                                       double h, BodyState& state) {
+  splitting::composeStrang(inertia, loads, lambda, h, gamma_, stages_, cache_, state);
 }
+
+namespace {
+constexpr double kStrangGamma[1] = {1.0};
+}  // namespace
+
+Cga2Integrator::Cga2Integrator() : StrangCompositionIntegrator("cga2", kStrangGamma, 1) {}
 
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

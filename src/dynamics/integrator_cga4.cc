@@ -13,10 +13,7 @@ constexpr int kStages = 3;
 
 }  // namespace
 
-void Cga4Integrator::step(const Inertia& inertia, const Loads& loads, double lambda, double h,
-                          BodyState& state) {
-  splitting::composeStrang(inertia, loads, lambda, h, kGamma, kStages, cache_, state);
-}
+Cga4Integrator::Cga4Integrator() : StrangCompositionIntegrator("cga4", kGamma, kStages) {}
 
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -1,4 +1,5 @@
-// The integrators by name (integrator.h).
+// The integrators by name, once: the ~integrator names (integrator.h) with what each makes for a
+// free body (makeIntegrator) and for an articulated tree (makeTreeIntegrator, tree_integrator.h).
 #include <utility>
 
 #include "cga_rigid_sim/dynamics/integrator.h"
@@ -8,6 +9,8 @@
 #include "cga_rigid_sim/dynamics/integrator_euler.h"
 #include "cga_rigid_sim/dynamics/integrator_exact.h"
 #include "cga_rigid_sim/dynamics/integrator_rk4.h"
+#include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "tree_integrators.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -17,15 +20,34 @@ template <class T>
 std::unique_ptr<Integrator> make() {
   return std::make_unique<T>();
 }
+std::unique_ptr<TreeIntegrator> treeMidpoint() { return makeMidpointTreeIntegrator(false); }
+std::unique_ptr<TreeIntegrator> treeMidpoint4() { return makeMidpointTreeIntegrator(true); }
+std::unique_ptr<TreeIntegrator> treeRk4() { return makeExplicitTreeIntegrator(true); }
+std::unique_ptr<TreeIntegrator> treeEuler() { return makeExplicitTreeIntegrator(false); }
+
+struct Entry {
+  const char* name;
+  std::unique_ptr<Integrator> (*body)();
+  std::unique_ptr<TreeIntegrator> (*tree)();  ///< null: the name has no form for trees
+  const char* no_tree;                        ///< then why
+};
 
 // In documentation order.
-const std::vector<std::pair<std::string, std::unique_ptr<Integrator> (*)()>>& registry() {
-  static const std::vector<std::pair<std::string, std::unique_ptr<Integrator> (*)()>> kRegistry = {
-      {"auto", &make<AutoIntegrator>},   {"cga2", &make<Cga2Integrator>},
-      {"cga4", &make<Cga4Integrator>},   {"exact", &make<ExactIntegrator>},
-      {"euler", &make<EulerIntegrator>}, {"rk4", &make<Rk4Integrator>},
-  };
-  return kRegistry;
+constexpr Entry kRegistry[] = {
+    {"auto", &make<AutoIntegrator>, &treeMidpoint, nullptr},
+    {"cga2", &make<Cga2Integrator>, &treeMidpoint, nullptr},
+    {"cga4", &make<Cga4Integrator>, &treeMidpoint4, nullptr},
+    {"exact", &make<ExactIntegrator>, nullptr,
+     "has no form for articulated trees (a tree has no closed-form flow)"},
+    {"euler", &make<EulerIntegrator>, &treeEuler, nullptr},
+    {"rk4", &make<Rk4Integrator>, &treeRk4, nullptr},
+};
+
+std::string listed(const std::vector<std::string>& names, const char* last_separator) {
+  std::string out;
+  for (std::size_t k = 0; k < names.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == names.size() ? last_separator : ", ") + names[k];
+  return out;
 }
 
 }  // namespace
@@ -33,18 +55,42 @@ const std::vector<std::pair<std::string, std::unique_ptr<Integrator> (*)()>>& re
 const std::vector<std::string>& integratorNames() {
   static const std::vector<std::string> kNames = [] {
     std::vector<std::string> names;
-    for (const auto& entry : registry()) names.push_back(entry.first);
+    for (const Entry& e : kRegistry) names.push_back(e.name);
     return names;
   }();
   return kNames;
 }
 
 Result<std::unique_ptr<Integrator>> makeIntegrator(const std::string& name) {
-  for (const auto& entry : registry())
-    if (entry.first == name) return entry.second();
-  std::string valid;
-  for (const auto& n : integratorNames()) valid += (valid.empty() ? "" : ", ") + n;
-  return Error{"unknown integrator '" + name + "' (valid: " + valid + ")"};
+  for (const Entry& e : kRegistry)
+    if (e.name == name) return e.body();
+  return Error{"unknown integrator '" + name + "' (valid: " + listed(integratorNames(), ", ") +
+               ")"};
+}
+
+const std::vector<std::string>& treeIntegratorNames() {
+  static const std::vector<std::string> kNames = [] {
+    std::vector<std::string> names;
+    for (const Entry& e : kRegistry)
+      if (e.tree) names.push_back(e.name);
+    return names;
+  }();
+  return kNames;
+}
+
+Result<std::unique_ptr<TreeIntegrator>> makeTreeIntegrator(const std::string& name) {
+  for (const Entry& e : kRegistry) {
+    if (e.name != name) continue;
+    if (e.tree) return e.tree();
+    return Error("integrator", "",
+                 "'" + name + "' " + e.no_tree + "; use auto (the default), " +
+                     listed(std::vector<std::string>(treeIntegratorNames().begin() + 1,
+                                                     treeIntegratorNames().end()),
+                            " or "));
+  }
+  return Error(
+      "integrator", "",
+      "unknown integrator '" + name + "' for trees (" + listed(treeIntegratorNames(), ", ") + ")");
 }
 
 }  // namespace dynamics

@@ -125,8 +125,8 @@ class Explicit final : public TreeIntegrator {
       const bool mimic = tree.hasMimic();
       applyMimicPositions(tree, state.q);
       treeKinematics(tree, state, kin_);
-      massMatrix(tree, kin_, M_);
-      if (mimic) reduceMatrix(tree, M_, Mr_);
+      massMatrix(tree, kin_, M_, work_);
+      if (mimic) reduceMatrix(tree, M_, Mr_, work_);
       llt_.compute(mimic ? Mr_ : M_);
       setVelocity(tree, state, nu_);
       reduceVelocity(tree, nu_, nu_r_);
@@ -203,13 +203,13 @@ class Explicit final : public TreeIntegrator {
       general_sized_ = true;
       treeKinematics(tree, s, kin_);
       externalMoments(tree, kin_, loads, f_ext_);
-      forwardDynamics(tree, s, kin_, tau, f_ext_, scratch_);
+      forwardDynamics(tree, s, kin_, tau, f_ext_, scratch_, work_);
       return;
     }
     general_sized_ = true;
     treeKinematics(tree, s, kin_);
     externalMoments(tree, kin_, loads, f_ext_);
-    forwardDynamics(tree, s, kin_, tau, f_ext_, out);
+    forwardDynamics(tree, s, kin_, tau, f_ext_, out, work_);
   }
 
   bool rk4_;
@@ -220,6 +220,7 @@ class Explicit final : public TreeIntegrator {
   bool compensated_ = false;
   Coeffs km_[4];
   TreeKinematics kin_;
+  TreeWorkspace work_;  // the tree algorithms' work arrays
   BodyMoments f_ext_;
   MidpointResidual stage_dynamics_;
   TreeKinematics end_kin_;  // of the state the last step produced, when kin_at_state_

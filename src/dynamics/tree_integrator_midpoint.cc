@@ -111,9 +111,9 @@ class Midpoint final : public TreeIntegrator {
     if (at_end_pose)
       residual_.massMatrix(M_);
     else
-      massMatrix(tree, kin_, M_);
+      massMatrix(tree, kin_, M_, work_);
     if (!tree.hasMimic()) return llt_.compute(M_);
-    reduceMatrix(tree, M_, Mr_);  // mimic joints: the step solves on ν_r
+    reduceMatrix(tree, M_, Mr_, work_);  // mimic joints: the step solves on ν_r
     llt_.compute(Mr_);
   }
   // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
@@ -135,7 +135,7 @@ class Midpoint final : public TreeIntegrator {
     if (!tree.hasMimic()) {
       llt_damped_.compute(Md_);
     } else {
-      reduceMatrix(tree, Md_, Mdr_);
+      reduceMatrix(tree, Md_, Mdr_, work_);
       llt_damped_.compute(Mdr_);
     }
     return llt_damped_;
@@ -206,7 +206,7 @@ class Midpoint final : public TreeIntegrator {
     if (!fresh) {  // momenta of a state set from outside
       treeKinematics(tree, state, kin_);
       T_ = kineticEnergy(tree, kin_);
-      momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr);
+      momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
       f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
       mid_ = state;
       differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
@@ -269,7 +269,7 @@ class Midpoint final : public TreeIntegrator {
           mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_all.head<6>()) * (-0.25 * h));
         treeKinematics(tree, mid_, kin_);
         externalMoments(tree, kin_, loads, f_ext_);
-        momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_);
+        momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_, work_);
       }
       if (!mimic) {
         r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
@@ -509,6 +509,7 @@ class Midpoint final : public TreeIntegrator {
   cga::Moment Pi_;
   TreeState mid_;
   TreeKinematics kin_;
+  TreeWorkspace work_;  // the tree algorithms' work arrays
   BodyMoments f_ext_, zeros_;
   Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
   tree_math::Cholesky llt_, llt_damped_;

@@ -1,31 +1,12 @@
-// Tree integrators by name, the loads on a tree's bodies, and the response to an impulse
-// (tree_integrator.h).
+// The loads on a tree's bodies and the response to an impulse (tree_integrator.h); the tree
+// integrators by name are in integrator_registry.cc, with the free-body ones.
 #include <Eigen/Cholesky>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
-#include "tree_integrators.h"
 #include "tree_math.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
-
-const std::vector<std::string>& treeIntegratorNames() {
-  static const std::vector<std::string> names{"auto", "cga2", "cga4", "rk4", "euler"};
-  return names;
-}
-
-Result<std::unique_ptr<TreeIntegrator>> makeTreeIntegrator(const std::string& name) {
-  if (name == "auto" || name == "cga2") return makeMidpointTreeIntegrator(false);
-  if (name == "cga4") return makeMidpointTreeIntegrator(true);
-  if (name == "rk4") return makeExplicitTreeIntegrator(true);
-  if (name == "euler") return makeExplicitTreeIntegrator(false);
-  if (name == "exact")
-    return Error("integrator", "",
-                 "'exact' has no form for articulated trees (a tree has no closed-form flow); "
-                 "use auto (the default), cga2, cga4, rk4 or euler");
-  return Error("integrator", "",
-               "unknown integrator '" + name + "' for trees (auto, cga2, cga4, rk4, euler)");
-}
 
 void externalMoments(const ArticulatedBody& tree, const TreeKinematics& kin, const TreeLoads& loads,
                      BodyMoments& out) {

@@ -4,50 +4,23 @@
 
 #include <cmath>
 
-#include "sin_cos.h"
+#include "cga_rigid_sim/math/mat3.h"
+#include "cga_rigid_sim/math/sin_cos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
 
 namespace {
 
-// sin x and cos x for |x| ≤ 1/16 from their Taylor polynomials: the first omitted terms,
-// x¹¹/11! and x¹²/12!, are below 2e-20 |x| and 8e-24, far under an ulp (and so is the rounding
-// of the coefficients, which multiply terms below 7e-4 |x|). For |x| ≤ 1/256 (a joint below
-// 16 rad/s at h = 1 ms) the polynomials stop earlier: x⁷/7! < 2e-20 |x| and x⁸/8! < 1e-24.
-// No divisions: they would lengthen the pass's dependent chains.
-constexpr double kSmallAngle = 1.0 / 16.0, kTinyAngle = 1.0 / 256.0;
-constexpr double kHalfPi = 1.5707963267948966;  // sinCosReduced's range (a joint within ±π)
-inline void smallSinCos(double x, double& s, double& c) {
-  constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880;
-  constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320,
-                   c10 = -1.0 / 3628800;
-  const double x2 = x * x;
-  if (std::abs(x) <= kTinyAngle) {
-    s = x + x * x2 * (s3 + x2 * s5);
-    c = 1.0 + x2 * (c2 + x2 * (c4 + x2 * c6));
-    return;
-  }
-  s = x + x * x2 * (s3 + x2 * (s5 + x2 * (s7 + x2 * s9)));
-  c = 1.0 + x2 * (c2 + x2 * (c4 + x2 * (c6 + x2 * (c8 + x2 * c10))));
-}
+using math::kHalfPi;  // sinCosReduced's range (a joint within ±π)
+using math::sinCosReduced;
 
-// y = R x and y = Rᵀ x for a row-major 3×3 R.
-inline void mul(const double* R, const double* x, double* y) {
-  y[0] = R[0] * x[0] + R[1] * x[1] + R[2] * x[2];
-  y[1] = R[3] * x[0] + R[4] * x[1] + R[5] * x[2];
-  y[2] = R[6] * x[0] + R[7] * x[1] + R[8] * x[2];
-}
-inline void mulT(const double* R, const double* x, double* y) {
-  y[0] = R[0] * x[0] + R[3] * x[1] + R[6] * x[2];
-  y[1] = R[1] * x[0] + R[4] * x[1] + R[7] * x[2];
-  y[2] = R[2] * x[0] + R[5] * x[1] + R[8] * x[2];
-}
-inline void cross(const double* a, const double* b, double* y) {
-  y[0] = a[1] * b[2] - a[2] * b[1];
-  y[1] = a[2] * b[0] - a[0] * b[2];
-  y[2] = a[0] * b[1] - a[1] * b[0];
-}
+// 3×3 kernels on row-major nine numbers (math/mat3.h).
+using math::cross;
+using math::dot;
+using math::mul;
+using math::mulT;
+
 // R = R0 + sin q R0[u]× + (1 − cos q) R0[u]×² of a joint, from sq = sin q and vq = 1 − cos q.
 template <typename Joint>
 inline void rodrigues(const Joint& j, double sq, double vq, double* R) {
@@ -56,10 +29,6 @@ inline void rodrigues(const Joint& j, double sq, double vq, double* R) {
     const auto& t = j.terms[l];
     R[t.index] += sq * t.b + vq * t.c;
   }
-}
-
-inline double dot(const double* a, const double* b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 // Adds M_pb T M̃_pb (a trivector of the child carried to the parent, tree_math::toParent) to
@@ -171,7 +140,7 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
 
 namespace {
 // sin and cos of a half angle: sinCosReduced within its range (within 1 ulp of std::sin and
-// std::cos, at half the cost; sin_cos.h), else the library's.
+// std::cos, at half the cost; math/sin_cos.h), else the library's.
 inline void halfSinCos(double half, double& s, double& c) {
   if (std::abs(half) <= kHalfPi) return sinCosReduced(half, s, c);
   s = std::sin(half);
@@ -269,20 +238,16 @@ void MidpointResidual::massMatrix(Eigen::MatrixXd& M) {
     for (int i = 0; i < 3; ++i) S[i + 3] = Ru[i] + tw[i];
     // The link's own inertia there, as a composite about the origin: I_o = R diag(J) Rᵀ +
     // m' (t·t 1 − t tᵀ), h = m' t (its centre of mass is its frame's origin).
-    double RJ[9];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) RJ[3 * r + c] = R[3 * r + c] * j.J[c];
-    const auto rjr = [&](int a, int c) {
-      return RJ[3 * a] * R[3 * c] + RJ[3 * a + 1] * R[3 * c + 1] + RJ[3 * a + 2] * R[3 * c + 2];
-    };
+    double RJR[6];
+    math::rotateDiagonal(R, j.J, RJR);
     const double m = j.m2, tt = dot(t, t);
     Composite& cb = C[b];
-    cb.I[0] = rjr(0, 0) + m * (tt - t[0] * t[0]);
-    cb.I[1] = rjr(1, 1) + m * (tt - t[1] * t[1]);
-    cb.I[2] = rjr(2, 2) + m * (tt - t[2] * t[2]);
-    cb.I[3] = rjr(0, 1) - m * t[0] * t[1];
-    cb.I[4] = rjr(0, 2) - m * t[0] * t[2];
-    cb.I[5] = rjr(1, 2) - m * t[1] * t[2];
+    cb.I[0] = RJR[0] + m * (tt - t[0] * t[0]);
+    cb.I[1] = RJR[1] + m * (tt - t[1] * t[1]);
+    cb.I[2] = RJR[2] + m * (tt - t[2] * t[2]);
+    cb.I[3] = RJR[3] - m * t[0] * t[1];
+    cb.I[4] = RJR[4] - m * t[0] * t[2];
+    cb.I[5] = RJR[5] - m * t[1] * t[2];
     for (int i = 0; i < 3; ++i) cb.h[i] = m * t[i];
     cb.m = m;
   }
@@ -306,9 +271,8 @@ void MidpointResidual::massMatrix(Eigen::MatrixXd& M) {
     double F[6], hu[3], wh[3];
     cross(c.h, s + 3, hu);
     cross(s, c.h, wh);
-    F[0] = I[0] * s[0] + I[3] * s[1] + I[4] * s[2] + hu[0];
-    F[1] = I[3] * s[0] + I[1] * s[1] + I[5] * s[2] + hu[1];
-    F[2] = I[4] * s[0] + I[5] * s[1] + I[2] * s[2] + hu[2];
+    math::mulSymmetric(I, s, F);
+    for (int i = 0; i < 3; ++i) F[i] += hu[i];
     for (int i = 0; i < 3; ++i) F[i + 3] = wh[i] + c.m * s[i + 3];
     out[k + n * k] = dot(F, s) + dot(F + 3, s + 3);
     for (int p = joint_[k].parent; p != 0; p = joint_[p - 1].parent) {
@@ -374,9 +338,9 @@ void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d&
       // sin, cos of ½q̄ = ½q + ¼h q̄̇; then sin q̄ = 2 sin cos, 1 − cos q̄ = 2 sin².
       const double x = 0.25 * h * v;
       double sh, ch;
-      if (std::abs(x) <= kSmallAngle) {
+      if (std::abs(x) <= math::kSinCosSmallLimit) {
         double sx, cx;
-        smallSinCos(x, sx, cx);
+        math::sinCosSmall(x, sx, cx);
         sh = sin_half_[k] * cx + cos_half_[k] * sx;
         ch = cos_half_[k] * cx - sin_half_[k] * sx;
       } else {

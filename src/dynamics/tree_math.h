@@ -11,6 +11,9 @@
 #include "cga_rigid_sim/cga/moment.h"
 #include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/dynamics/tree_workspace.h"
+#include "cga_rigid_sim/math/cholesky.h"
+#include "cga_rigid_sim/math/mat3.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -35,13 +38,8 @@ inline Vector6d vec(const cga::Moment& m) {
 inline cga::Bivelocity bivector(const Vector6d& x) { return {x.head<3>(), x.tail<3>()}; }
 inline cga::Moment moment(const Vector6d& x) { return {x.head<3>(), x.tail<3>()}; }
 
-/// A composite rigid body in one body's frame, the CRBA's ten numbers: the inertia about the
-/// frame's origin I_o (xx, yy, zz, xy, xz, yz), the first moment h = m c and the mass m.
-struct Composite {
-  double I[6];
-  double h[3];
-  double m;
-};
+/// A composite rigid body in one body's frame, the CRBA's ten numbers (tree_workspace.h).
+using Composite = CompositeInertia;
 
 /// Adds the composite c of a child whose frame sits at x_p = R x_b + t in its parent's (R as
 /// nine numbers, row-major) to `parent`: m and h ← R h + m t, and I_o ← R I_o Rᵀ +
@@ -49,30 +47,19 @@ struct Composite {
 /// centre of mass from R c to R c + t).
 inline void addCompositeToParent(const double* R, const double* t, const Composite& c,
                                  Composite& parent) {
-  const double* I = c.I;
-  double RI[9];  // R I_o, I_o symmetric
-  for (int i = 0; i < 3; ++i) {
-    const double r0 = R[3 * i], r1 = R[3 * i + 1], r2 = R[3 * i + 2];
-    RI[3 * i] = r0 * I[0] + r1 * I[3] + r2 * I[4];
-    RI[3 * i + 1] = r0 * I[3] + r1 * I[1] + r2 * I[5];
-    RI[3 * i + 2] = r0 * I[4] + r1 * I[5] + r2 * I[2];
-  }
-  const auto rowDot = [&](int i, int k) {
-    return RI[3 * i] * R[3 * k] + RI[3 * i + 1] * R[3 * k + 1] + RI[3 * i + 2] * R[3 * k + 2];
-  };
+  double RIR[6];  // R I_o Rᵀ
+  math::rotateSymmetric(R, c.I, RIR);
   double hr[3];
-  for (int i = 0; i < 3; ++i)
-    hr[i] = R[3 * i] * c.h[0] + R[3 * i + 1] * c.h[1] + R[3 * i + 2] * c.h[2];
+  math::mul(R, c.h, hr);
   const double m = c.m;
-  const double diag = 2.0 * (hr[0] * t[0] + hr[1] * t[1] + hr[2] * t[2]) +
-                      m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  const double diag = 2.0 * math::dot(hr, t) + m * math::dot(t, t);
   const auto shift = [&](int i, int k) { return -(t[i] * hr[k] + hr[i] * t[k] + m * t[i] * t[k]); };
-  parent.I[0] += rowDot(0, 0) + diag + shift(0, 0);
-  parent.I[1] += rowDot(1, 1) + diag + shift(1, 1);
-  parent.I[2] += rowDot(2, 2) + diag + shift(2, 2);
-  parent.I[3] += rowDot(0, 1) + shift(0, 1);
-  parent.I[4] += rowDot(0, 2) + shift(0, 2);
-  parent.I[5] += rowDot(1, 2) + shift(1, 2);
+  parent.I[0] += RIR[0] + diag + shift(0, 0);
+  parent.I[1] += RIR[1] + diag + shift(1, 1);
+  parent.I[2] += RIR[2] + diag + shift(2, 2);
+  parent.I[3] += RIR[3] + shift(0, 1);
+  parent.I[4] += RIR[4] + shift(0, 2);
+  parent.I[5] += RIR[5] + shift(1, 2);
   for (int i = 0; i < 3; ++i) parent.h[i] += hr[i] + m * t[i];
   parent.m += m;
 }
@@ -150,15 +137,11 @@ inline void addToParent(const TreeKinematics& kin, int b, const Matrix6d& I, Mat
     Y[2][j] = B[2][j] + tx * C[1][j] - ty * C[0][j];
   }
   // T B'ᵀ: column j is t × (row j of B'); Y T: row i is (row i of Y) × t.
-  const auto cross = [&](const double* v, double* out) {
-    out[0] = ty * v[2] - tz * v[1];
-    out[1] = tz * v[0] - tx * v[2];
-    out[2] = tx * v[1] - ty * v[0];
-  };
+  const double* t = kin.t_P[b].data();
   double TBt[3][3], YT[3][3];  // TBt[j] is column j of T B'ᵀ, YT[i] row i of Y T
-  for (int j = 0; j < 3; ++j) cross(B[j], TBt[j]);
+  for (int j = 0; j < 3; ++j) math::cross(t, B[j], TBt[j]);
   for (int i = 0; i < 3; ++i) {
-    cross(Y[i], YT[i]);
+    math::cross(t, Y[i], YT[i]);
     for (double& x : YT[i]) x = -x;  // (row of Y) × t = −t × (row of Y)
   }
   for (int i = 0; i < 3; ++i) {
@@ -177,136 +160,8 @@ inline void addToParent(const TreeKinematics& kin, int b, const Matrix6d& I, Mat
   }
 }
 
-/// The Cholesky factorization A = L Lᵀ of a tree's mass matrix (small, symmetric positive
-/// definite), on scalars with the reciprocals of L's diagonal kept: the solves of a step are
-/// short dependent chains, which divisions and Eigen's dynamic-size kernels would lengthen
-/// several times. A matrix that is not positive definite leaves NaN in L (and in every
-/// solution), which the integrators treat as a failed step.
-class Cholesky {
- public:
-  void compute(const Eigen::MatrixXd& A) {
-    const int n = static_cast<int>(A.rows());
-    L_.resize(n, n);
-    inv_diag_.resize(n);
-    switch (n) {  // the sizes of small trees with the loops unrolled: the same operations
-      case 1:
-        return computeFixed<1>(A.data(), L_.data(), inv_diag_.data());
-      case 2:
-        return computeFixed<2>(A.data(), L_.data(), inv_diag_.data());
-      case 3:
-        return computeFixed<3>(A.data(), L_.data(), inv_diag_.data());
-      case 4:
-        return computeFixed<4>(A.data(), L_.data(), inv_diag_.data());
-      case 5:
-        return computeFixed<5>(A.data(), L_.data(), inv_diag_.data());
-      case 6:
-        return computeFixed<6>(A.data(), L_.data(), inv_diag_.data());
-      case 7:
-        return computeFixed<7>(A.data(), L_.data(), inv_diag_.data());
-      case 8:
-        return computeFixed<8>(A.data(), L_.data(), inv_diag_.data());
-      default:
-        return computeAny(n, A.data(), L_.data(), inv_diag_.data());
-    }
-  }
-  /// x ← A⁻¹ x: L y = x forward, then Lᵀ z = y backward, both along L's columns.
-  void solveInPlace(Eigen::VectorXd& x) const {
-    const int n = static_cast<int>(x.size());
-    const double *L = L_.data(), *inv = inv_diag_.data();
-    double* v = x.data();
-    switch (n) {
-      case 1:
-        return solveFixed<1>(L, inv, v);
-      case 2:
-        return solveFixed<2>(L, inv, v);
-      case 3:
-        return solveFixed<3>(L, inv, v);
-      case 4:
-        return solveFixed<4>(L, inv, v);
-      case 5:
-        return solveFixed<5>(L, inv, v);
-      case 6:
-        return solveFixed<6>(L, inv, v);
-      case 7:
-        return solveFixed<7>(L, inv, v);
-      case 8:
-        return solveFixed<8>(L, inv, v);
-      default:
-        return solveAny(n, L, inv, v);
-    }
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
-    Eigen::VectorXd x = b;
-    solveInPlace(x);
-    return x;
-  }
-
- private:
-  // Column-major n × n: A(i, j) = A[i + n j]. The loops of the fixed sizes are unrolled fully
-  // (the trip counts are constants), so the entries stay in registers.
-  template <int N>
-  static void computeFixed(const double* A, double* L, double* inv) {
-    computeAny(N, A, L, inv);
-  }
-  template <int N>
-  static void solveFixed(const double* L, const double* inv, double* v) {
-    double x[N];
-#pragma GCC unroll 8
-    for (int i = 0; i < N; ++i) x[i] = v[i];
-#pragma GCC unroll 8
-    for (int j = 0; j < N; ++j) {
-      const double y = x[j] * inv[j];
-      x[j] = y;
-#pragma GCC unroll 8
-      for (int i = j + 1; i < N; ++i) x[i] -= L[i + N * j] * y;
-    }
-#pragma GCC unroll 8
-    for (int i = N - 1; i >= 0; --i) {
-      double sum = x[i];
-#pragma GCC unroll 8
-      for (int j = i + 1; j < N; ++j) sum -= L[j + N * i] * x[j];
-      x[i] = sum * inv[i];
-    }
-#pragma GCC unroll 8
-    for (int i = 0; i < N; ++i) v[i] = x[i];
-  }
-  static inline __attribute__((always_inline)) void computeAny(int n, const double* A, double* L,
-                                                               double* inv_diag) {
-#pragma GCC unroll 8
-    for (int j = 0; j < n; ++j) {
-      double d = A[j + n * j];
-#pragma GCC unroll 8
-      for (int k = 0; k < j; ++k) d -= L[j + n * k] * L[j + n * k];
-      const double l = std::sqrt(d), inv = 1.0 / l;
-      L[j + n * j] = l;
-      inv_diag[j] = inv;
-#pragma GCC unroll 8
-      for (int i = j + 1; i < n; ++i) {
-        double x = A[i + n * j];
-#pragma GCC unroll 8
-        for (int k = 0; k < j; ++k) x -= L[i + n * k] * L[j + n * k];
-        L[i + n * j] = x * inv;
-      }
-    }
-  }
-  static void solveAny(int n, const double* L, const double* inv, double* v) {
-    for (int j = 0; j < n; ++j) {
-      const double* col = L + static_cast<std::ptrdiff_t>(j) * n;
-      const double y = v[j] * inv[j];
-      v[j] = y;
-      for (int i = j + 1; i < n; ++i) v[i] -= col[i] * y;
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      const double* col = L + static_cast<std::ptrdiff_t>(i) * n;
-      double sum = v[i];
-      for (int j = i + 1; j < n; ++j) sum -= col[j] * v[j];
-      v[i] = sum * inv[i];
-    }
-  }
-
-  Eigen::MatrixXd L_;
-  Eigen::VectorXd inv_diag_;
-};
+/// The Cholesky factorization of a tree's mass matrix (math/cholesky.h).
+using Cholesky = math::Cholesky;
 
 }  // namespace tree_math
 }  // namespace dynamics

@@ -54,12 +54,18 @@ void reduceJointForce(const ArticulatedBody& tree, Eigen::Ref<const Eigen::Vecto
 }
 
 void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r) {
+  TreeWorkspace work;
+  reduceMatrix(tree, M, M_r, work);
+}
+
+void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r,
+                  TreeWorkspace& work) {
   if (copiedWithoutMimic(tree, M, M_r)) return;
   // Gᵀ M G by rows, then by columns: each full index adds its multiple into its reduced one.
   const int base = tree.floating() ? 6 : 0, nv = tree.velocityCount(), nr = tree.reducedCount();
   const auto reducedOf = [&](int i) { return i < base ? i : tree.reducedIndex(i - base); };
   const auto weightOf = [&](int i) { return i < base ? 1.0 : tree.mimicMultiplier(i - base); };
-  static thread_local Eigen::MatrixXd rows;  // Gᵀ M
+  Eigen::MatrixXd& rows = work.reduce_rows;  // Gᵀ M
   rows.setZero(nr, nv);
   for (int i = 0; i < nv; ++i) rows.row(reducedOf(i)) += weightOf(i) * M.row(i);
   M_r.setZero(nr, nr);

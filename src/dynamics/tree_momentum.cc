@@ -1,6 +1,7 @@
 // Mass matrix (CRBA), momentum map, Lagrangian gradient and energy of an ArticulatedBody
 // (doc/articulated.md#momentum).
 #include "cga_rigid_sim/dynamics/articulated_body.h"
+#include "cga_rigid_sim/math/mat3.h"
 #include "tree_math.h"
 
 namespace cga_rigid_sim {
@@ -30,12 +31,10 @@ void addToParent(const Eigen::Matrix3d& R, const Eigen::Vector3d& tv, const Comp
 
 // The moment I_c s of a composite on a screw s = (w, u).
 cga::Moment apply(const Composite& c, const cga::Bivelocity& s) {
-  const double* I = c.I;
   const Eigen::Vector3d& w = s.rot;
   const Eigen::Vector3d h(c.h[0], c.h[1], c.h[2]);
-  const Eigen::Vector3d Iw(I[0] * w.x() + I[3] * w.y() + I[4] * w.z(),
-                           I[3] * w.x() + I[1] * w.y() + I[5] * w.z(),
-                           I[4] * w.x() + I[5] * w.y() + I[2] * w.z());
+  Eigen::Vector3d Iw;
+  math::mulSymmetric(c.I, w.data(), Iw.data());
   return {Iw + h.cross(s.trans), w.cross(h) + c.m * s.trans};
 }
 
@@ -54,12 +53,17 @@ Matrix6d matrix(const Composite& c) {
 }  // namespace
 
 void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M) {
+  TreeWorkspace work;
+  massMatrix(tree, kin, M, work);
+}
+
+void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M,
+                TreeWorkspace& work) {
   const int n = tree.jointCount(), off = tree.floating() ? 6 : 0;
   const double lambda = tree.lambda();
   M.setZero(tree.velocityCount(), tree.velocityCount());
-  // Composite inertias inward, each in its own body's frame (scratch: no allocation once grown).
-  static thread_local std::vector<Composite> Ic_scratch;
-  auto& Ic = Ic_scratch;
+  // Composite inertias inward, each in its own body's frame.
+  std::vector<Composite>& Ic = work.composites;
   Ic.resize(n + 1);
   for (int b = 0; b <= n; ++b) {
     Composite& c = Ic[b];
@@ -103,9 +107,17 @@ Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinem
 
 void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
                          const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient) {
+  TreeWorkspace work;
+  momentumAndGradient(tree, kin, f_ext, p, gradient, work);
+}
+
+void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
+                         const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient,
+                         TreeWorkspace& work) {
   const int n = tree.jointCount();
   const double lambda = tree.lambda();
-  static thread_local std::vector<cga::Moment> H, F;  // scratch: no allocation once grown
+  std::vector<cga::Moment>& H = work.subtree_momentum;
+  std::vector<cga::Moment>& F = work.subtree_moments;
   H.assign(n + 1, cga::Moment());
   F.assign(n + 1, cga::Moment());
   for (int b = tree.floating() ? 0 : 1; b <= n; ++b) {

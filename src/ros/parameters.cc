@@ -3,17 +3,14 @@
 #include <ros/param.h>
 
 #include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <climits>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <optional>
 #include <sstream>
 #include <thread>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/scene/flow_text.h"
 
 namespace cga_rigid_sim {
 namespace node {
@@ -57,127 +54,33 @@ Error wrongType(const std::string& name, const char* expected, const XmlRpcValue
 // then have the parameter's type. A string that is not such a value, or reads as the wrong
 // type, is refused with the form the parameter takes.
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// A plain YAML scalar: an integer (int), another number (double), a YAML 1.1 boolean, else the
-// string itself.
-XmlRpcValue plainScalar(const std::string& text) {
-  const std::string t = trim(text);
-  if (!t.empty()) {
-    char* end = nullptr;
-    errno = 0;
-    const long n = std::strtol(t.c_str(), &end, 10);
-    if (end == t.c_str() + t.size() && errno == 0 && n >= INT_MIN && n <= INT_MAX)
-      return XmlRpcValue(static_cast<int>(n));
-    const double d = std::strtod(t.c_str(), &end);
-    if (end == t.c_str() + t.size()) return XmlRpcValue(d);
-    const std::string l = lower(t);
-    if (l == "true" || l == "yes" || l == "on") return XmlRpcValue(true);
-    if (l == "false" || l == "no" || l == "off") return XmlRpcValue(false);
-  }
-  return XmlRpcValue(t);
-}
-
-// Recursive descent over a YAML flow value; nesting is bounded so that no input can exhaust the
-// stack.
-class FlowParser {
- public:
-  explicit FlowParser(const std::string& text) : s_(text) {}
-  std::optional<XmlRpcValue> parseWhole() {
-    auto v = value(0);
-    skipSpace();
-    if (!v || i_ != s_.size()) return std::nullopt;
-    return v;
-  }
-
- private:
-  static constexpr int kMaxDepth = 32;
-  void skipSpace() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
-  }
-  bool eat(char c) {
-    skipSpace();
-    if (i_ < s_.size() && s_[i_] == c) {
-      ++i_;
-      return true;
-    }
-    return false;
-  }
-  // A scalar: quoted, or plain up to one of `stops` at the top of this level.
-  std::optional<XmlRpcValue> scalar(const char* stops) {
-    skipSpace();
-    if (i_ < s_.size() && (s_[i_] == '"' || s_[i_] == '\'')) {
-      const char q = s_[i_++];
-      const std::size_t close = s_.find(q, i_);
-      if (close == std::string::npos) return std::nullopt;
-      XmlRpcValue v(s_.substr(i_, close - i_));
-      i_ = close + 1;
-      return v;
-    }
-    const std::size_t from = i_;
-    while (i_ < s_.size() && !std::strchr(stops, s_[i_]) && s_[i_] != '[' && s_[i_] != '{') ++i_;
-    const std::string t = trim(s_.substr(from, i_ - from));
-    if (t.empty()) return std::nullopt;
-    return plainScalar(t);
-  }
-  std::optional<XmlRpcValue> value(int depth) {
-    if (depth > kMaxDepth) return std::nullopt;
-    if (eat('[')) {
+// The text itself is read by scene::parseFlowText (scene/flow_text.h), without ROS, so that the
+// initial-state fuzz target reads it with the same parser; here it becomes an XmlRpcValue.
+XmlRpcValue toXmlRpc(const scene::FlowValue& v) {
+  switch (v.type) {
+    case scene::FlowValue::Type::kBool:
+      return XmlRpcValue(v.b);
+    case scene::FlowValue::Type::kInt:
+      return XmlRpcValue(v.i);
+    case scene::FlowValue::Type::kDouble:
+      return XmlRpcValue(v.d);
+    case scene::FlowValue::Type::kString:
+      return XmlRpcValue(v.s);
+    case scene::FlowValue::Type::kList: {
       XmlRpcValue list;
       list.setSize(0);  // an empty array, not an invalid value, for "[]"
-      if (eat(']')) return list;
-      do {
-        auto item = value(depth + 1);
-        if (!item) return std::nullopt;
-        list[list.size()] = *item;
-      } while (eat(','));
-      if (!eat(']')) return std::nullopt;
+      for (const scene::FlowValue& item : v.items) list[list.size()] = toXmlRpc(item);
       return list;
     }
-    if (eat('{')) {
+    case scene::FlowValue::Type::kMap: {
       XmlRpcValue map;
       map.begin();  // an empty struct, not an invalid value, for "{}"
-      if (eat('}')) return map;
-      do {
-        auto key = scalar(":,}");
-        if (!key || !eat(':')) return std::nullopt;
-        const std::string k = key->getType() == XmlRpcValue::TypeString
-                                  ? static_cast<std::string&>(*key)
-                                  : trim(keyText(*key));
-        if (map.hasMember(k)) return std::nullopt;
-        auto item = value(depth + 1);
-        if (!item) return std::nullopt;
-        map[k] = *item;
-      } while (eat(','));
-      if (!eat('}')) return std::nullopt;
+      for (std::size_t k = 0; k < v.items.size(); ++k) map[v.keys[k]] = toXmlRpc(v.items[k]);
       return map;
     }
-    return scalar(",]}");
   }
-  // A key that read as a number or boolean keeps its text ({1: …} names key "1").
-  std::string keyText(XmlRpcValue& v) {
-    std::ostringstream os;
-    if (v.getType() == XmlRpcValue::TypeBoolean)
-      os << (static_cast<bool&>(v) ? "true" : "false");
-    else if (v.getType() == XmlRpcValue::TypeInt)
-      os << static_cast<int&>(v);
-    else
-      os << formatNumber(static_cast<double&>(v), 17);
-    return os.str();
-  }
-
-  const std::string& s_;
-  std::size_t i_ = 0;
-};
+  return XmlRpcValue();
+}
 
 // The parameter `key`, with a string read as a YAML flow value when `expected` is not a string
 // type; false when unset.
@@ -187,7 +90,7 @@ Result<bool> getTyped(const ::ros::NodeHandle& pnh, const std::string& key, XmlR
   text->clear();
   if (v->getType() == XmlRpcValue::TypeString) {
     *text = static_cast<const std::string&>(*v);
-    if (auto parsed = FlowParser(*text).parseWhole()) *v = *parsed;
+    if (auto parsed = scene::parseFlowText(*text)) *v = toXmlRpc(*parsed);
   }
   return true;
 }

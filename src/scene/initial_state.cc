@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/math/constants.h"
 #include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/rotation_rule.h"
 
@@ -43,8 +44,6 @@ std::string allowedKeys() {
   for (const char* k : kKeys) s += (s.empty() ? "" : ", ") + std::string(k);
   return s;
 }
-
-std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
 // "rad" or "m" for a joint position; "rad/s" or "m/s" for its velocity.
 const char* positionUnit(JointType t) { return t == JointType::kPrismatic ? "m" : "rad"; }
@@ -83,7 +82,7 @@ Result<Eigen::VectorXd> readNumbers(const ParamValue& v, int n, const std::strin
 cga::Motor jointMotion(const JointModel& j, double q, double lambda) {
   if (j.type == JointType::kPrismatic)
     return cga::exp(cga::Bivelocity(Eigen::Vector3d::Zero(), j.axis / lambda) * (-0.5 * q));
-  constexpr double kPeriod = 4 * M_PI;
+  constexpr double kPeriod = 4 * math::kPi;
   const double turn = std::abs(q) > kPeriod ? std::remainder(q, kPeriod) : q;
   return cga::exp(cga::Bivelocity(j.axis, Eigen::Vector3d::Zero()) * (-0.5 * turn));
 }

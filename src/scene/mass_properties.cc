@@ -4,12 +4,13 @@
 #include <limits>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/math/constants.h"
 
 namespace cga_rigid_sim {
 namespace scene {
 
 namespace {
-const double kPi = std::acos(-1.0);
+using math::kPi;
 
 // The inertia tensor about the centre of mass from the central second moment
 // C = ∫ρ (x − c)(x − c)ᵀ dV:  J = tr(C) 1 − C.

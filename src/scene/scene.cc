@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "cga_rigid_sim/dynamics/at_rest.h"
+#include "cga_rigid_sim/dynamics/integrator.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -42,12 +43,7 @@ int Scene::findLink(const std::string& link, int* link_index) const {
   return -1;
 }
 
-const std::vector<std::string>& summaryIntegratorNames() {
-  // The names of dynamics/integrator.h (makeIntegrator), in its documentation order. Kept here
-  // so the scene layer can describe a scene without constructing integrators.
-  static const std::vector<std::string> kNames = {"cga2", "cga4", "exact", "auto", "euler", "rk4"};
-  return kNames;
-}
+const std::vector<std::string>& summaryIntegratorNames() { return dynamics::integratorNames(); }
 
 std::string plannedIntegratorPath(const Scene& scene, const BodyModel& body,
                                   const std::string& integrator) {

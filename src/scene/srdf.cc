@@ -5,13 +5,13 @@
 
 #include <cstring>
 
+#include "cga_rigid_sim/format.h"
+
 namespace cga_rigid_sim {
 namespace scene {
 namespace {
 
 using tinyxml2::XMLElement;
-
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 class SrdfReader {
  public:
@@ -52,7 +52,7 @@ class SrdfReader {
 
  private:
   Error fail(int line, const std::string& what) const {
-    return Error{"srdf " + quoted(source_) + (line > 0 ? ":" + std::to_string(line) : "") + ": " +
+    return Error{"srdf " + inQuotes(source_) + (line > 0 ? ":" + std::to_string(line) : "") + ": " +
                  what};
   }
   // The link named by attribute `attr` of e: present and a link of the scene.
@@ -62,7 +62,7 @@ class SrdfReader {
     if (!name || !*name)
       return fail(e->GetLineNum(), element + " has no " + attr + " attribute (it must name a link)");
     if (scene_.findLink(name) < 0)
-      return fail(e->GetLineNum(), element + " " + attr + " " + quoted(name) +
+      return fail(e->GetLineNum(), element + " " + attr + " " + inQuotes(name) +
                                        ": the URDF has no link of that name (an SRDF written "
                                        "for another robot, or a renamed link?)");
     out = name;
@@ -73,7 +73,7 @@ class SrdfReader {
     if (auto err = readLink(e, "link2", p.link2)) return err;
     if (p.link1 == p.link2)
       return fail(e->GetLineNum(), std::string("<") + e->Name() + "> names link " +
-                                       quoted(p.link1) + " twice (a pair needs two links)");
+                                       inQuotes(p.link1) + " twice (a pair needs two links)");
     const char* reason = e->Attribute("reason");
     p.reason = reason ? reason : "";
     p.line = e->GetLineNum();

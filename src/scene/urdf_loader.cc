@@ -74,8 +74,6 @@ const char* const kRepairedNote = " (~relax_inertia:=false refuses this instead)
 // carries: mass and moments negligible in the dynamics, and every body of the tree physical.
 constexpr double kPlaceholderFraction = 1e-6;
 
-std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
-
 // A link's tf frame name: its name without leading '/' (tf2 refuses frame ids that start with
 // one; ROS 1 descriptions written for tf (1) often have them).
 std::string tfFrame(const std::string& link) {

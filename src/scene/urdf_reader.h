@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/result.h"
 #include "urdf_xml.h"
 
@@ -20,8 +21,6 @@ namespace detail {
 
 using tinyxml2::XMLAttribute;
 using tinyxml2::XMLElement;
-
-inline std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
 // urdfdom's Vector3::init: the text is split at spaces, empty pieces are skipped, and exactly
 // three numbers must remain.

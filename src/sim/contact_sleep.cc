@@ -10,11 +10,6 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-int find(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
 // The moving index of scene body j, or −1 (the ground, a static body).
 int movingOf(const Model& model, int j) { return j < 0 ? -1 : model.moving_of_body[j]; }
 
@@ -72,7 +67,7 @@ double linkSpeed(const Model& model, const Data& data, int i) {
 void putTreeToSleep(const Model& model, Data& data, int t) {
   TreeData& td = data.trees[t];
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
-  static thread_local dynamics::TreeKinematics kin;
+  dynamics::TreeKinematics& kin = data.tree_scratch.sleep_kin;
   dynamics::treeKinematics(tree, td.state, kin);
   const double E_now = treeEnergy(model, t, kin);
   const double T_now = dynamics::kineticEnergy(tree, kin);
@@ -156,8 +151,7 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
   // The fastest contact point of each awake body; bodies joined by contacts.
   S.speed.assign(n, -1.0);  // −1: no contact this step
   S.blocked.assign(n, 0);
-  S.parent.resize(n);
-  for (std::size_t i = 0; i < n; ++i) S.parent[i] = static_cast<int>(i);
+  S.sets.reset(static_cast<int>(n));
   for (const Contact& c : data.contacts) {
     const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
     for (const int i : {a, b}) {
@@ -180,7 +174,7 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
                        dynamics::angularVelocity_W(body.state).norm() * arm;
       S.speed[i] = std::max(S.speed[i], v);
     }
-    if (a >= 0 && b >= 0) S.parent[find(S.parent, a)] = find(S.parent, b);
+    if (a >= 0 && b >= 0) S.sets.join(a, b);
   }
   // A tree with a link in contact: every link joins its island, and its speed is the tree's
   // fastest link's (a swinging arm keeps a robot awake whose feet rest). Timed efforts keep it
@@ -199,7 +193,7 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
       const int i = tm.movingOf(b);
       S.speed[i] = speed;
       S.blocked[i] = S.blocked[i] || blocked;
-      S.parent[find(S.parent, i)] = find(S.parent, in_contact);
+      S.sets.join(i, in_contact);
     }
   }
   // Still steps in a row; an island is blocked by any member that is not still long enough.
@@ -208,13 +202,13 @@ void fallAsleep(const Model& model, Data& data, SleepState& S) {
     if (S.asleep[i]) continue;
     S.still[i] = S.speed[i] >= 0 && S.speed[i] < kSleepSpeed ? S.still[i] + 1 : 0;
     S.counting = S.counting || S.still[i] > 0;
-    if (S.blocked[i] || S.still[i] < steps) S.blocked[find(S.parent, static_cast<int>(i))] = 1;
+    if (S.blocked[i] || S.still[i] < steps) S.blocked[S.sets.find(static_cast<int>(i))] = 1;
   }
   const Eigen::Vector3d& g = model.scene.gravity_W;
   bool fell = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (S.asleep[i] || S.speed[i] < 0) continue;
-    const int root = find(S.parent, static_cast<int>(i));
+    const int root = S.sets.find(static_cast<int>(i));
     if (S.blocked[root]) continue;
     // Asleep from here: it stays where the contact stage left it (no drift), at rest. The
     // energy book had it drift by h v + shift and keep its kinetic energy: both go to the

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/dynamics/body_state.h"
+#include "cga_rigid_sim/math/union_find.h"
 #include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
@@ -38,7 +39,7 @@ struct SleepState {
   int count = 0;          ///< sleepers
   bool counting = false;  ///< some awake body has still steps counted
   // Scratch of fallAsleep, per moving index.
-  std::vector<int> parent;
+  math::UnionFind sets;  ///< bodies joined by contacts and trees
   std::vector<double> speed;
   std::vector<char> blocked;
   std::vector<char> woken;  ///< wakeIsland's

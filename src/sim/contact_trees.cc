@@ -15,19 +15,6 @@ Eigen::Matrix<double, 6, 1> twistOf(const Eigen::Matrix<double, 6, 6>& X, const 
   return c;
 }
 
-// Scratch of the stage (one step at a time per Data; the step is single-threaded here).
-struct Scratch {
-  dynamics::TreeKinematics kin, still;
-  dynamics::TreeState state;
-  dynamics::BodyMoments f;
-  Eigen::VectorXd nu_dot, M_nu_dot;
-  Eigen::MatrixXd M_r;
-};
-Scratch& scratch() {
-  static thread_local Scratch s;
-  return s;
-}
-
 }  // namespace
 
 double treeEnergy(const Model& model, int t, const dynamics::TreeKinematics& kin) {
@@ -59,7 +46,7 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   const dynamics::ArticulatedBody& tree = tm.body;
   TreeData& td = data.trees[t];
   const double h = model.config.dt, lambda = model.lambda;
-  Scratch& S = scratch();
+  TreeStageScratch::Kick& S = data.tree_scratch.kick;
 
   dynamics::treeKinematics(tree, td.state, S.kin);
   td.contact_energy_start = treeEnergy(model, t, S.kin);
@@ -73,7 +60,8 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   S.still = S.kin;
   for (auto& w : S.still.omega) w = cga::Bivelocity();
   dynamics::externalMoments(tree, S.still, td.loads, S.f);
-  dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot);
+  dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot,
+                            data.tree_scratch.algorithms);
   // The world momentum the step must end with, but for the contacts' external impulses (the
   // contacts stage adds them): the momentum now plus the loads' impulse h W over the step.
   if (tree.floating()) {
@@ -94,7 +82,7 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu.tail(tree.jointCount()) = td.state.v;
   out.nu += h * S.nu_dot;
 
-  dynamics::massMatrix(tree, S.kin, out.M);
+  dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
   // The scale of the energy guard's tolerance (stage_trees.cc): symplectic Euler's error over
   // one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
   {
@@ -109,7 +97,7 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   if (tree.hasMimic()) {
     dynamics::reduceVelocity(tree, out.nu, S.nu_dot);
     out.nu = S.nu_dot;
-    dynamics::reduceMatrix(tree, out.M, S.M_r);
+    dynamics::reduceMatrix(tree, out.M, S.M_r, data.tree_scratch.algorithms);
     out.M = S.M_r;
   }
   out.llt.compute(out.M);
@@ -169,9 +157,8 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 void takeTreeImpulses(const SolverTree& solved, TreeData& td,
                       const dynamics::ArticulatedBody& tree) {
   // (ν and pν on the independent coordinates: every joint's from them.)
-  Scratch& S = scratch();
-  dynamics::expandVelocity(tree, solved.nu, S.nu_dot);
-  dynamics::setVelocityVector(tree, S.nu_dot, td.state);
+  dynamics::expandVelocity(tree, solved.nu, td.contact_nu);
+  dynamics::setVelocityVector(tree, td.contact_nu, td.state);
   dynamics::expandVelocity(tree, solved.pnu, td.contact_shift);
   td.contact_kicked = true;
   td.integrator->reset();

@@ -39,12 +39,13 @@ Result<TreeData> makeTreeData(const Model& model, int t) {
   d.drift_loads.applied.assign(tm.body.bodyCount(), nullptr);
   d.drift_loads.effort = Eigen::VectorXd::Zero(n);
   d.contact_shift = Eigen::VectorXd::Zero(tm.body.velocityCount());
+  d.contact_nu = Eigen::VectorXd::Zero(tm.body.velocityCount());
   return d;
 }
 
 void writeTreeBodies(const Model& model, Data& data, int t) {
   const TreeModel& tm = model.trees[t];
-  static thread_local dynamics::TreeKinematics kin;
+  dynamics::TreeKinematics& kin = data.tree_scratch.write_kin;
   dynamics::treeKinematics(tm.body, data.trees[t].state, kin);
   for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
     MovingBodyData& body = data.bodies[tm.movingOf(b)];

@@ -30,7 +30,6 @@ int appendBody(Model& model, scene::BodyModel body) {
   model.body_by_name[body.name] = j;
   for (int li = 0; li < static_cast<int>(body.links.size()); ++li)
     model.link_owner[body.links[li].link] = {j, li};
-  model.parent.push_back(-1);  // set for tree links by compileTrees
   model.self_collision.appendBody();
   if (body.is_static) {
     model.moving_of_body.push_back(-1);

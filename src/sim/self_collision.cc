@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <set>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/math/union_find.h"
 #include "contact_detection.h"
 
 namespace cga_rigid_sim {
@@ -48,21 +48,18 @@ Pair ordered(int a, int b) { return a < b ? Pair(a, b) : Pair(b, a); }
 // Per body: its robot, the union of the bodies joints join (−1: no joint touches it).
 std::vector<int> robots(const Model& model) {
   const int n = static_cast<int>(model.scene.bodies.size());
-  std::vector<int> root(n), robot(n, -1);
-  std::iota(root.begin(), root.end(), 0);
-  const auto find = [&root](int x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
+  math::UnionFind sets;
+  sets.reset(n);
+  std::vector<int> robot(n, -1);
   std::vector<char> jointed(n, 0);
   for (const scene::JointModel& j : model.scene.joints) {
     jointed[j.child_body] = 1;
     if (j.parent_body < 0) continue;
     jointed[j.parent_body] = 1;
-    root[find(j.parent_body)] = find(j.child_body);
+    sets.join(j.parent_body, j.child_body);
   }
   for (int j = 0; j < n; ++j)
-    if (jointed[j]) robot[j] = find(j);
+    if (jointed[j]) robot[j] = sets.find(j);
   return robot;
 }
 

@@ -65,11 +65,11 @@ struct MomentumSplit {
 };
 MomentumSplit splitMomentum(const dynamics::ArticulatedBody& tree,
                             const dynamics::TreeKinematics& kin, const dynamics::TreeState& s,
-                            const cga::Moment& Pi, double lambda) {
-  static thread_local Eigen::MatrixXd M;
-  static thread_local Eigen::VectorXd Dv;
+                            const cga::Moment& Pi, double lambda, TreeStageScratch& scratch) {
+  Eigen::MatrixXd& M = scratch.split_M;
+  Eigen::VectorXd& Dv = scratch.split_Dv;
   const int n = tree.jointCount();
-  dynamics::massMatrix(tree, kin, M);
+  dynamics::massMatrix(tree, kin, M, scratch.algorithms);
   Dv.noalias() = M.bottomRightCorner(n, n) * s.v;
   const cga::Moment base = s.M_W0.reverse().apply(Pi, lambda);
   Eigen::Matrix<double, 6, 1> pi;
@@ -99,8 +99,8 @@ double endContactStep(const Model& model, Data& data, int t) {
   const dynamics::ArticulatedBody& tree = tm.body;
   const double h = model.config.dt, lambda = model.lambda;
   const int n = tree.jointCount();
-  static thread_local dynamics::TreeKinematics kin;
-  static thread_local dynamics::TreeState moved;
+  dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;
+  dynamics::TreeState& moved = data.tree_scratch.moved;
   if (!td.contact_shift.isZero(0.0)) {
     dynamics::treeKinematics(tree, td.state, kin);
     const double T = dynamics::kineticEnergy(tree, kin);
@@ -131,7 +131,7 @@ double endContactStep(const Model& model, Data& data, int t) {
       moveBy(f, td.state);
       td.state.v *= scale;
     } else {
-      const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda);
+      const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda, data.tree_scratch);
       const double U_moved = treeEnergy(model, t, kin) - dynamics::kineticEnergy(tree, kin);
       const double dU = U_moved + full.T_locked + full.T_internal - E0;
       double f = 1.0, s = 1.0;
@@ -142,7 +142,7 @@ double endContactStep(const Model& model, Data& data, int t) {
       moveBy(f, td.state);
       td.state.v *= s;
       dynamics::treeKinematics(tree, td.state, kin);
-      const MomentumSplit end = splitMomentum(tree, kin, td.state, Pi, lambda);
+      const MomentumSplit end = splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch);
       td.state.omega_0 = cga::Bivelocity(end.omega_0.head<3>(), end.omega_0.tail<3>());
     }
   }
@@ -161,11 +161,11 @@ double endContactStep(const Model& model, Data& data, int t) {
 
 // What a step in which a limit stopped a joint took (the stop's impulse is not a force whose work
 // could be summed): the energy before plus the inputs' work (trapezoidal) minus the energy after.
-double limitedStepBook(const Model& model, const Data& data, int t) {
+double limitedStepBook(const Model& model, Data& data, int t) {
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
   const TreeData& td = data.trees[t];
-  static thread_local dynamics::TreeKinematics kin;
-  static thread_local dynamics::TreeState before;
+  dynamics::TreeKinematics& kin = data.tree_scratch.book_kin;
+  dynamics::TreeState& before = data.tree_scratch.before;
   before = td.state;
   before.q = td.q_before;
   before.v = td.v_before;
@@ -194,7 +194,7 @@ void contactFault(const Model& model, Data& data, int t, TreeFaults::Rule rule, 
 bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
   const TreeModel& tm = model.trees[t];
   const TreeData& td = data.trees[t];
-  static thread_local dynamics::TreeKinematics kin;
+  dynamics::TreeKinematics& kin = data.tree_scratch.check_kin;
   dynamics::treeKinematics(tm.body, td.state, kin);
   const double T = dynamics::kineticEnergy(tm.body, kin);
   const double energy_bound = kEnergySlackFactor * td.contact_energy_slack +
@@ -262,7 +262,7 @@ bool limitBroken(const Model& model, Data& data, int t) {
 void undoFaultyStep(const Model& model, Data& data, int t, bool contact_step) {
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
   TreeData& td = data.trees[t];
-  static thread_local dynamics::TreeKinematics kin;
+  dynamics::TreeKinematics& kin = data.tree_scratch.undo_kin;
   td.state.q = td.q_before;
   td.state.M_W0 = td.M_W0_before;
   double E_before = td.contact_energy_start;  // before the kick (a contact step)

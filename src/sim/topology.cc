@@ -128,7 +128,6 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
   for (const auto& l : model.scene.bodies[j].links) model.link_owner.erase(l.link);
   model.body_by_name.erase(body);
   model.scene.bodies.erase(model.scene.bodies.begin() + j);
-  model.parent.erase(model.parent.begin() + j);
   model.moving_of_body.erase(model.moving_of_body.begin() + j);
   model.self_collision.eraseBody(j);
   if (i >= 0) {
@@ -149,8 +148,6 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
     if (i >= 0 && m > i) --m;
   for (auto& m : model.moving)
     if (m.body > j) --m.body;
-  for (auto& p : model.parent)
-    if (p > j) --p;
   for (auto& kv : model.body_by_name)
     if (kv.second > j) --kv.second;
   for (auto& kv : model.link_owner)

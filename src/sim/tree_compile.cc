@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "cga_rigid_sim/math/union_find.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "input_rules.h"
 
@@ -65,23 +66,20 @@ std::optional<Error> compileTrees(Model& model) {
   // own, except that joints coupled by <mimic> share one (a gripper's fingers on a fixed palm):
   // the sets of joints connected by parenthood and mimic, by union–find over scene joints.
   const int joint_count = static_cast<int>(model.scene.joints.size());
-  std::vector<int> set(joint_count), joint_of_child(model.scene.bodies.size(), -1);
+  math::UnionFind sets;
+  sets.reset(joint_count);
+  std::vector<int> joint_of_child(model.scene.bodies.size(), -1);
   for (int sj = 0; sj < joint_count; ++sj) {
-    set[sj] = sj;
     const int child = model.scene.joints[sj].child_body;
     if (child >= 0 && child < static_cast<int>(joint_of_child.size())) joint_of_child[child] = sj;
   }
-  const auto find = [&](int x) {
-    while (set[x] != x) x = set[x] = set[set[x]];
-    return x;
-  };
   for (int sj = 0; sj < joint_count; ++sj) {
     const scene::JointModel& j = model.scene.joints[sj];
     if (j.parent_body >= 0 && j.parent_body < static_cast<int>(joint_of_child.size()) &&
         joint_of_child[j.parent_body] >= 0)
-      set[find(sj)] = find(joint_of_child[j.parent_body]);
+      sets.join(sj, joint_of_child[j.parent_body]);
     if (j.mimic && j.mimic->leader >= 0 && j.mimic->leader < joint_count)
-      set[find(sj)] = find(j.mimic->leader);
+      sets.join(sj, j.mimic->leader);
   }
   std::unordered_map<int, int> ground_tree;  // a set's fixed-base tree
   for (int sj = 0; sj < joint_count; ++sj) {
@@ -96,7 +94,7 @@ std::optional<Error> compileTrees(Model& model) {
     int tree = -1;
     if (parent_moving < 0) {  // the world or a static body: a fixed-base tree, new or its set's
       if (j.parent_body >= 0) tj.M_PJ = model.scene.bodies[j.parent_body].M_WB0 * j.M_PJ;
-      const auto [it, added] = ground_tree.emplace(find(sj), static_cast<int>(trees.size()));
+      const auto [it, added] = ground_tree.emplace(sets.find(sj), static_cast<int>(trees.size()));
       tree = it->second;
       if (added) trees.push_back({j.parent_link, -1, {}, {}, {}, {}, {}});
       tj.parent = 0;

@@ -27,6 +27,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cga_rigid_sim/math/constants.h"
+
 namespace cga_rigid_sim {
 namespace cga {
 namespace {
@@ -36,7 +38,7 @@ using MV = Multivector;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kInputRelErr = 8 * kEps;
 const double kSqrt32 = std::sqrt(32.0);
-const double kPi = std::acos(-1.0);
+using math::kPi;
 
 // Round-off bound, per coefficient, of a product of factors with coefficient norms `norms`
 // (derivation in the file comment).

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <string>
 
+#include "cga_rigid_sim/math/constants.h"
 #include "cga_rigid_sim/scene/mesh.h"
 #include "cga_rigid_sim/scene/urdf_loader.h"
 
@@ -28,7 +29,7 @@ namespace scene {
 namespace {
 
 namespace fs = std::filesystem;
-const double kPi = std::acos(-1.0);
+using math::kPi;
 constexpr double kRelTol = 1e-12;
 
 void expectClose(const MassProperties& got, double mass, const Eigen::Vector3d& com,

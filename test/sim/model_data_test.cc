@@ -29,7 +29,7 @@ const char* const kBallUrdf = R"(<robot name="ball">
   const sim::Model& m = w.model();
   const sim::Data& d = w.data();
   const std::size_t nb = m.scene.bodies.size();
-  if (m.moving_of_body.size() != nb || m.parent.size() != nb)
+  if (m.moving_of_body.size() != nb)
     return ::testing::AssertionFailure() << "per-body arrays differ in size";
   if (d.bodies.size() != m.moving.size())
     return ::testing::AssertionFailure()
@@ -155,7 +155,8 @@ TEST(ModelData, CompiledIndicesFollowTheScene) {
   ASSERT_EQ(m->moving.size(), 2u);
   EXPECT_EQ(m->moving[0].body, 1);
   EXPECT_EQ(m->moving[1].body, 3);
-  EXPECT_EQ(m->parent, (std::vector<int>{-1, -1, -1, -1}));
+  EXPECT_TRUE(m->trees.empty());  // no joints: every moving body is free
+  EXPECT_EQ(m->tree_of_moving, (std::vector<int>{-1, -1}));
   auto d = sim::makeData(*m);
   ASSERT_TRUE(d.ok()) << d.error();
   ASSERT_EQ(d->bodies.size(), 2u);

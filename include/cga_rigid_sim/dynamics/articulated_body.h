@@ -29,6 +29,7 @@
 #include "cga_rigid_sim/cga/moment.h"
 #include "cga_rigid_sim/cga/motor.h"
 #include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/dynamics/tree_workspace.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -191,8 +192,11 @@ void reduceForce(const ArticulatedBody& tree, const Eigen::VectorXd& f, Eigen::V
 /// The joints' part alone: `f` per joint (jointCount()), `f_r` per independent coordinate (sized).
 void reduceJointForce(const ArticulatedBody& tree, Eigen::Ref<const Eigen::VectorXd> f,
                       Eigen::Ref<Eigen::VectorXd> f_r);
-/// M_r = Gᵀ M G: the mass matrix (or any symmetric matrix on ν) on ν_r.
+/// M_r = Gᵀ M G: the mass matrix (or any symmetric matrix on ν) on ν_r. Without `work` it
+/// allocates its work array (the step passes one: tree_workspace.h).
 void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r);
+void reduceMatrix(const ArticulatedBody& tree, const Eigen::MatrixXd& M, Eigen::MatrixXd& M_r,
+                  TreeWorkspace& work);
 /// Puts every follower where its leader says: q_k = m q_l + o, q̇_k = m q̇_l (bit-exact, so that
 /// the constraints hold to the rounding of that one expression), then within its own limits
 /// (which the leader's coordinate limits keep it in, up to that rounding).
@@ -222,12 +226,19 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
 Eigen::VectorXd forwardDynamics(const ArticulatedBody& tree, const TreeState& state,
                                 const TreeKinematics& kin, const Eigen::VectorXd& tau,
                                 const BodyMoments& f_ext);
-/// The same into `nu_dot` (no allocation once it has its size).
+/// The same into `nu_dot`, with its work arrays in `work` (no allocation once nu_dot and work
+/// have their sizes); without `work` it allocates them.
 void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
                      const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& nu_dot);
+void forwardDynamics(const ArticulatedBody& tree, const TreeState& state, const TreeKinematics& kin,
+                     const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& nu_dot,
+                     TreeWorkspace& work);
 
 /// CRBA: the mass matrix M(q) (symmetric positive definite), kinetic energy ½ νᵀ M ν.
+/// Without `work` it allocates its work array (the step passes one).
 void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M);
+void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::MatrixXd& M,
+                TreeWorkspace& work);
 
 /// The momentum map ∂L/∂ν = M ν: per joint p_k = ⟨H_k, s_k⟩ with H_k the momentum of the
 /// subtree below joint k in the child's frame; for a floating base the first 6 entries are the
@@ -237,9 +248,13 @@ void massMatrix(const ArticulatedBody& tree, const TreeKinematics& kin, Eigen::M
 /// with F_k the external moments on the subtree in the child's frame (doc/articulated.md).
 Eigen::VectorXd momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
                                     const BodyMoments& f_ext, Eigen::VectorXd* gradient);
-/// The same into `p` (no allocation once p and gradient have their sizes).
+/// The same into `p`, with its work arrays in `work` (no allocation once p, gradient and work
+/// have their sizes); without `work` it allocates them.
 void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
                          const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient);
+void momentumAndGradient(const ArticulatedBody& tree, const TreeKinematics& kin,
+                         const BodyMoments& f_ext, Eigen::VectorXd& p, Eigen::VectorXd* gradient,
+                         TreeWorkspace& work);
 
 /// Total momentum of the tree in world axes (the trivector about the world origin) and its
 /// kinetic energy.

@@ -87,15 +87,29 @@ void composeStrang(const Inertia& inertia, const Loads& loads, double lambda, do
 
 }  // namespace splitting
 
-class Cga2Integrator : public Integrator {
+/// A free-body integrator that steps by splitting::composeStrang with one set of coefficients γ:
+/// cga2 below (γ = {1}) and cga4 (integrator_cga4.h) are this one class with their own γ.
+class StrangCompositionIntegrator : public Integrator {
  public:
-  const char* name() const override { return "cga2"; }
+  /// `name` and `gamma` (`stages` numbers, Σγ = 1) must outlive the integrator.
+  StrangCompositionIntegrator(const char* name, const double* gamma, int stages)
+      : name_(name), gamma_(gamma), stages_(stages) {}
+  const char* name() const override { return name_; }
   void step(const Inertia& inertia, const Loads& loads, double lambda, double h,
             BodyState& state) override;
   void reset() override { cache_ = splitting::Cache(); }
 
  private:
+  const char* name_;
+  const double* gamma_;
+  int stages_;
   splitting::Cache cache_;
+};
+
+/// cga2: one Strang step per step (γ = {1}).
+class Cga2Integrator : public StrangCompositionIntegrator {
+ public:
+  Cga2Integrator();
 };
 
 }  // namespace dynamics

@@ -16,21 +16,15 @@
 // drift, the ballistic centre of mass to round-off (Σγ = 1 and each stage is exact for it).
 #pragma once
 
-#include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/integrator_cga2.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
 
-class Cga4Integrator : public Integrator {
+/// cga4: cga2's Strang step composed as Yoshida's triple jump.
+class Cga4Integrator : public StrangCompositionIntegrator {
  public:
-  const char* name() const override { return "cga4"; }
-  void step(const Inertia& inertia, const Loads& loads, double lambda, double h,
-            BodyState& state) override;
-  void reset() override { cache_ = splitting::Cache(); }
-
- private:
-  splitting::Cache cache_;
+  Cga4Integrator();
 };
 
 }  // namespace dynamics

@@ -5,9 +5,8 @@
 // A per-moving-body datum is one member of MovingBodyData: it is made in one place
 // (makeBodyData), reset by remaking it and erased with its body (sim/topology.cc).
 //
-// Where the next capabilities go (doc/architecture.md): the contacts found in a step and their
-// impulses, and the joint coordinates of articulated trees, become members here, filled by
-// their own stages between the loads and the integration.
+// Work arrays live here too (Data::tree_scratch, Data::contact_scratch) or in the caches of the
+// integrators: the step keeps no state anywhere else, and allocates nothing once they have grown.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +18,7 @@
 #include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/dynamics/loads.h"
 #include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "cga_rigid_sim/dynamics/tree_workspace.h"
 #include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
@@ -139,6 +139,37 @@ struct TreeData {
   Eigen::VectorXd q_before, v_before;
   cga::Motor M_W0_before;
   cga::Bivelocity omega_0_before;
+  /// The generalized velocity ν after the contact impulses (takeTreeImpulses' work array, sized
+  /// velocityCount()).
+  Eigen::VectorXd contact_nu;
+};
+
+/// Work arrays of the tree stages, kept in the Data so that a step allocates nothing once they
+/// have grown to its largest tree (the stages take the trees one at a time). Each member belongs
+/// to the function named with it, so no call overwrites what its caller still reads.
+struct TreeStageScratch {
+  dynamics::TreeWorkspace algorithms;  ///< the tree algorithms' (mass matrix, ABA, …)
+  dynamics::TreeKinematics write_kin;  ///< writeTreeBodies: the tree's poses and velocities
+  dynamics::TreeKinematics sleep_kin;  ///< putTreeToSleep: the tree's energy
+  /// endContactStep: the tree's kinematics, and the tree moved by the position correction
+  dynamics::TreeKinematics end_kin;
+  dynamics::TreeState moved;
+  Eigen::MatrixXd split_M;   ///< splitMomentum: the mass matrix
+  Eigen::VectorXd split_Dv;  ///< splitMomentum: D q̇
+  /// limitedStepBook: the kinematics of the state before the step and after it
+  dynamics::TreeKinematics book_kin;
+  dynamics::TreeState before;
+  dynamics::TreeKinematics check_kin;  ///< contactStepBroken
+  dynamics::TreeKinematics undo_kin;   ///< undoFaultyStep
+  /// kickTree (contact_trees.cc): the tree's kinematics and at rest, its state at rest, the
+  /// loads' moments, ν̇ and M ν̇, the reduced mass matrix.
+  struct Kick {
+    dynamics::TreeKinematics kin, still;
+    dynamics::TreeState state;
+    dynamics::BodyMoments f;
+    Eigen::VectorXd nu_dot, M_nu_dot;
+    Eigen::MatrixXd M_r;
+  } kick;
 };
 
 /// Tree steps that broke an invariant of the tree's motion (doc/articulated.md#faults), undone:
@@ -209,6 +240,7 @@ struct Data {
 
   /// Per tree (the Model's tree index).
   std::vector<TreeData> trees;
+  TreeStageScratch tree_scratch;  ///< the tree stages' work arrays
 };
 
 /// The data of tree `t` at its initial state, with no effort.

@@ -1,6 +1,6 @@
-// Model: what a World simulates and does not change while it steps — the scene's bodies in
-// parent-first order with their parent, names, inertias, link frames and initial states, and
-// the configuration. Compiled once from a scene::Scene (compileModel); spawnUrdf and deleteBody
+// Model: what a World simulates and does not change while it steps — the scene's bodies with
+// their names, inertias, link frames and initial states, the articulated trees, and the
+// configuration. Compiled once from a scene::Scene (compileModel); spawnUrdf and deleteBody
 // edit it together with the Data (sim/topology.h), nothing else does.
 //
 // Two index spaces:
@@ -8,10 +8,6 @@
 //   moving index i — position in `moving`, the moving bodies only, in scene order. Every
 //                    per-moving-body array of the Model and of the Data is indexed by i.
 // The step only touches moving indices; names and body indices serve inputs and reports.
-//
-// Where the next capabilities go (doc/architecture.md): collision shapes per link join
-// scene::BodyModel; articulated trees add joints and use `parent` (today every body hangs on
-// the world: parent −1).
 #pragma once
 
 #include <map>
@@ -63,8 +59,6 @@ struct Model {
   double lambda = 1.0;  ///< CGA length scale, m (the scene's)
   scene::Scene scene;   ///< every body: names, links (M_BL), static poses, initial states
 
-  /// Per body j: the body it hangs on (−1: the world). Bodies come parent first.
-  std::vector<int> parent;
   /// Per body j: its moving index i, or −1 for a static body.
   std::vector<int> moving_of_body;
   /// Per moving body i.
