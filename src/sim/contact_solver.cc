@@ -224,13 +224,8 @@ void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& w
     work.islands[0].bodies = static_cast<int>(work.island_body.size());
     return;
   }
-  std::vector<int>& root = work.root;
-  root.resize(n + n_trees);
-  for (int x = 0; x < n + n_trees; ++x) root[x] = x;
-  const auto find = [&root](int x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
+  math::UnionFind& sets = work.island_sets;
+  sets.reset(n + n_trees);
   // A group's node: any of its sides (a group's rows share their bodies).
   const auto nodes = [&](int k, int out[4]) {
     int m = 0;
@@ -243,7 +238,7 @@ void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& w
   for (const SolverWork::Group& g : work.groups) {
     int nd[4];
     const int m = nodes(g.first, nd);
-    for (int i = 1; i < m; ++i) root[find(nd[i])] = find(nd[0]);
+    for (int i = 1; i < m; ++i) sets.join(nd[i], nd[0]);
   }
   // Number the islands by their first group; collect groups, slots and trees per island.
   std::vector<int>& id = work.node_island;  // per root, then per node: its island, −1 for none
@@ -257,14 +252,14 @@ void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& w
       island_of_group[q] = islands++;
       continue;
     }
-    int& i = id[find(nd[0])];
+    int& i = id[sets.find(nd[0])];
     if (i < 0) i = islands++;
     island_of_group[q] = i;
   }
   work.islands.assign(islands, SolverWork::Island());
   for (const int i : island_of_group) ++work.islands[i].groups;
   for (int x = 0; x < n + n_trees; ++x) {
-    const int i = id[find(x)];
+    const int i = id[sets.find(x)];
     if (i < 0) continue;
     if (x < n)
       ++work.islands[i].bodies;
@@ -289,7 +284,7 @@ void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& w
     work.island_group[I.first_group + I.groups++] = static_cast<int>(q);
   }
   for (int x = 0; x < n + n_trees; ++x) {
-    const int i = id[find(x)];
+    const int i = id[sets.find(x)];
     if (i < 0) continue;
     SolverWork::Island& I = work.islands[i];
     if (x < n)
@@ -745,9 +740,9 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       // 1 m).
       double limit_change = 0.0;
       treesOf([&](SolverTree& t) {
-        limit_change = std::max(
-            limit_change, sweepLimits<&SolverTree::nu, &SolverTree::LimitRow::y_lower,
-                                      &SolverTree::LimitRow::y_upper>(t, st.h, nullptr));
+        limit_change =
+            std::max(limit_change, sweepLimits<&SolverTree::nu, &SolverTree::LimitRow::y_lower,
+                                               &SolverTree::LimitRow::y_upper>(t, st.h, nullptr));
       });
       double change = std::max(bodyChange(work, I), limit_change);
       if (I.trees > 0) {  // a tree's change as its contact points see it

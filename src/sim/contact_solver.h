@@ -30,6 +30,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "cga_rigid_sim/math/union_find.h"
 #include "cga_rigid_sim/sim/contact.h"
 #include "cga_rigid_sim/sim/world_config.h"
 
@@ -221,7 +222,8 @@ struct SolverWork {
   };
   std::vector<Island> islands;
   std::vector<int> island_group, island_body, island_tree;
-  std::vector<int> root, node_island, group_island;  ///< scratch of makeIslands
+  math::UnionFind island_sets;                 ///< makeIslands: the islands as sets
+  std::vector<int> node_island, group_island;  ///< scratch of makeIslands
   /// The direct solve of a resting island (contact_resting.h): at most 16 faces, so its
   /// matrices have a fixed largest size and a step allocates nothing.
   struct Resting {

@@ -332,7 +332,7 @@ void integrateTrees(const Model& model, Data& data) {
     td.omega_0_before = td.state.omega_0;
     const bool contact_step = td.contact_kicked;
     if (contact_step && tm.body.floating()) {  // what the impulses left, for the momentum guard
-      static thread_local dynamics::TreeKinematics kin;
+      dynamics::TreeKinematics& kin = data.tree_scratch.solved_kin;
       dynamics::treeKinematics(tm.body, td.state, kin);
       td.contact_momentum_solved = dynamics::worldMomentum(tm.body, kin);
     }

@@ -159,8 +159,9 @@ struct TreeStageScratch {
   /// limitedStepBook: the kinematics of the state before the step and after it
   dynamics::TreeKinematics book_kin;
   dynamics::TreeState before;
-  dynamics::TreeKinematics check_kin;  ///< contactStepBroken
-  dynamics::TreeKinematics undo_kin;   ///< undoFaultyStep
+  dynamics::TreeKinematics check_kin;   ///< contactStepBroken
+  dynamics::TreeKinematics solved_kin;  ///< integrateTrees: the momentum the impulses left
+  dynamics::TreeKinematics undo_kin;    ///< undoFaultyStep
   /// kickTree (contact_trees.cc): the tree's kinematics and at rest, its state at rest, the
   /// loads' moments, ν̇ and M ν̇, the reduced mass matrix.
   struct Kick {
