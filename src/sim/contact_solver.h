@@ -150,18 +150,17 @@ struct SolverSettings {
   double touching = 1e-9;    ///< gaps below this are contact, m
   double correction = 0.2;   ///< fraction of the overlap beyond slop removed per step
   int max_iterations = 100;  ///< Gauss–Seidel sweeps at most
-  /// … for an island with an articulated tree. Gauss–Seidel converges slowly where a tree's
-  /// contacts and joint stops share its load through M(q): a humanoid lying on the floor on its
-  /// joints' stops gains ~0.2 % a sweep, so no cap reaches the tolerance there, and a hundred
-  /// sweeps cost five times thirty for no visible difference (a sweep is a projection that never
-  /// adds energy: a stopped solve leaves velocities partly corrected, never amplified).
+  /// … for an island with an articulated tree: Gauss–Seidel converges slowly where a tree's
+  /// contacts and joint stops share its load through M(q), so the cap, not the tolerance, ends
+  /// such a solve (a sweep is a projection that never adds energy: a stopped solve leaves
+  /// velocities partly corrected, never amplified). Why 30: doc/decisions.md.
   int max_tree_iterations = 30;
   int position_iterations = 10;  ///< sweeps of the position correction at most
   /// The position correction moves a tree's coordinate (a joint, rad or m; the floating base's
   /// six, rad and m/λ) by at most this much in one step. It removes a fifth of an overlap per
   /// step, so a few centimetres at a lever of 10 cm need a few hundredths of a radian; more only
   /// where the tree can barely move the contact points apart (J M⁻¹ Jᵀ nearly singular), where
-  /// it would fling the joints (a wrist turned by 37 rad in one step on a real arm).
+  /// it would fling the joints.
   double max_tree_shift = 0.05;
   /// Stop when a sweep changes no body's velocity at any of its contact points by more, m/s.
   /// The bodies' velocities, not the impulses: four contacts under one face share its load in
