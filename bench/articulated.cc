@@ -23,7 +23,7 @@
 #include "articulated_common.h"
 #include "cga_rigid_sim/scene/param_value.h"
 #include "cga_rigid_sim/scene/scene.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 #ifndef BENCH_REPO_ROOT
@@ -37,7 +37,7 @@ namespace {
 using ::bench::articulated::ArticulatedCase;
 using ::bench::articulated::BaseState;
 
-// The ~integrator names for trees (doc/articulated.md, dynamics/tree_integrator.h): auto and
+// The ~integrator names for trees (doc/articulated.md, tree/tree_integrator.h): auto and
 // cga2 (the variational midpoint), cga4 (its triple jump), rk4 and euler on ABA.
 const char* const kTreeIntegrators[] = {"auto", "cga2", "cga4", "rk4", "euler"};
 

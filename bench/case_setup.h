@@ -17,9 +17,9 @@
 #include <Eigen/Geometry>
 
 #include "cases.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
-#include "cga_rigid_sim/dynamics/loads.h"
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/inertia.h"
+#include "cga_rigid_sim/body/loads.h"
 #include "reference_solution.h"
 
 namespace cga_rigid_sim {

@@ -35,13 +35,13 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/body/inertia.h"
+#include "cga_rigid_sim/body/integrator.h"
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/scene/scene.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
-#include "cga_rigid_sim/sim/contact.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "contact_common.h"
 #include "robot_common.h"

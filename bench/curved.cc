@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "bench_clock.h"
-#include "cga_rigid_sim/dynamics/curved_integrator.h"
-#include "cga_rigid_sim/dynamics/free_flow.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/body/free_flow.h"
+#include "cga_rigid_sim/body/integrator.h"
+#include "cga_rigid_sim/curved/curved_integrator.h"
 
 using namespace cga_rigid_sim;
 using namespace cga_rigid_sim::dynamics;

@@ -36,8 +36,8 @@
 #include <vector>
 
 #include "bench_clock.h"
+#include "cga_rigid_sim/body/integrator.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "peers/sweep_util.h"

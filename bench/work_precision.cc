@@ -40,7 +40,7 @@
 #include "bench_clock.h"
 #include "case_setup.h"
 #include "cases.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/body/integrator.h"
 #include "peers/sweep_util.h"
 #include "reference_solution.h"
 

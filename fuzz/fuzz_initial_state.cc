@@ -17,7 +17,7 @@
 
 #include "cga_rigid_sim/scene/flow_text.h"
 #include "cga_rigid_sim/scene/initial_state.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "common/finite_scene.h"
 
 using namespace cga_rigid_sim;

@@ -1,4 +1,4 @@
-// Fuzz target: the URDF loader (loadUrdfString, scene/urdf_loader.h) on arbitrary text, with
+// Fuzz target: the URDF loader (loadUrdfString, scene/urdf/urdf_loader.h) on arbitrary text, with
 // our extension elements (<cga_rigid_sim:mass_from_geometry>, <cga_rigid_sim:contact>), Gazebo
 // friction and meshes. Mesh file names are resolved relative to the current directory, which
 // is set to fuzz/meshes/ once: it holds closed and broken STL and OBJ meshes that the seeds
@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <string>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "common/finite_scene.h"
 

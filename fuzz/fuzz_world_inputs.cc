@@ -1,4 +1,4 @@
-// Fuzz target: the input validation of the core (sim/world.h, sim/inputs.h). The first byte
+// Fuzz target: the input validation of the core (sim/world.h, sim/input/inputs.h). The first byte
 // chooses a small fixed scene and an integrator, a World is made from it, and the rest of the
 // bytes are decoded into a sequence of calls — applyWrench, applyImpulse, setBodyState,
 // setJointEfforts, applyJointEffort, step, clearWrenches, reset, spawnUrdf, deleteBody,
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "common/finite_scene.h"

@@ -66,7 +66,7 @@ else
     ros-robot-state-publisher  # test/ros/robot_state_publisher.test
     libvisualization-msgs-dev python3-visualization-msgs rviz  # rviz.test reads ~markers in Python
     libfcl-dev  # FCL 0.7: collision detection for contacts
-    dart-doc)  # published robot descriptions the loader's tests read (test/scene/published_robots_test.cc)
+    dart-doc)  # published robot descriptions the loader's tests read (test/scene/urdf/published_robots_test.cc)
 fi
 
 # The fuzz targets (scripts/fuzz.sh): clang with libFuzzer and the ASan/UBSan/LSan runtimes. The

@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "cases/cases.h"
-#include "cga_rigid_sim/dynamics/derived.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/body/integrator.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 
 int main(int argc, char** argv) {
   using namespace cga_rigid_sim::scene;

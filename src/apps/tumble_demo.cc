@@ -10,8 +10,8 @@
 #include <iostream>
 #include <string>
 
-#include "cga_rigid_sim/dynamics/derived.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/body/integrator.h"
 
 int main(int argc, char** argv) {
   using namespace cga_rigid_sim;

@@ -22,8 +22,8 @@
 #include <thread>
 #include <vector>
 
-#include "cga_rigid_sim/dynamics/derived.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/world.h"

@@ -13,8 +13,8 @@
 
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/scene/scene_summary.h"
-#include "cga_rigid_sim/scene/srdf.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/srdf.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "simulator.h"
 

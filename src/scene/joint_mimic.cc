@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "cga_rigid_sim/dynamics/articulated_body.h"
 #include "cga_rigid_sim/scene/joint.h"
+#include "cga_rigid_sim/tree/articulated_body.h"
 
 namespace cga_rigid_sim {
 namespace scene {

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 
-#include "cga_rigid_sim/dynamics/at_rest.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
+#include "cga_rigid_sim/body/at_rest.h"
+#include "cga_rigid_sim/body/integrator.h"
 
 namespace cga_rigid_sim {
 namespace scene {

@@ -1,6 +1,6 @@
-#include "coasting.h"
+#include "sim/coasting.h"
 
-#include "body_ranges.h"
+#include "sim/body_ranges.h"
 
 namespace cga_rigid_sim {
 namespace sim {

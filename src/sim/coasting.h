@@ -2,7 +2,7 @@
 // elapsed time — the exact flow of `exact` and `auto` with no applied load (free, or under
 // gravity) — and that nothing else acts on (no tree, no collision shape, flat space) takes no
 // step at all. Its state is evaluated from the state the coast started at and the steps since
-// (Integrator::coast, dynamics/free_flow.h freeFlowAt) when something reads it: a report, an
+// (Integrator::coast, body/free_flow.h freeFlowAt) when something reads it: a report, an
 // input that acts on it, a state edit. That evaluation is a function of the starting state and
 // the step count alone, so what a body does never depends on when, how often, or by how many
 // threads it was read: a run observed every step and one never observed are the same run, bit

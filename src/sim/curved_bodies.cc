@@ -1,9 +1,9 @@
-#include "curved_bodies.h"
+#include "sim/curved_bodies.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "cga_rigid_sim/dynamics/curved_derived.h"
+#include "cga_rigid_sim/curved/curved_derived.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -1,7 +1,7 @@
 // makeData: the changing part of a World at its initial state.
 #include "cga_rigid_sim/sim/data.h"
 
-#include "curved_bodies.h"
+#include "sim/curved_bodies.h"
 
 namespace cga_rigid_sim {
 namespace sim {

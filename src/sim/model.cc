@@ -4,11 +4,11 @@
 #include <cmath>
 #include <utility>
 
-#include "cga_rigid_sim/dynamics/integrator.h"
-#include "curved_bodies.h"
-#include "input_rules.h"
-#include "self_collision_rules.h"
-#include "tree_compile.h"
+#include "cga_rigid_sim/body/integrator.h"
+#include "contact/self_collision_rules.h"
+#include "sim/curved_bodies.h"
+#include "sim/input/input_rules.h"
+#include "sim/tree_compile.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -3,7 +3,7 @@
 #include <map>
 #include <sstream>
 
-#include "cga_rigid_sim/dynamics/derived.h"
+#include "cga_rigid_sim/body/derived.h"
 #include "cga_rigid_sim/format.h"
 
 namespace cga_rigid_sim {

@@ -1,7 +1,7 @@
 // Stage 4 of the step: wrenches whose last step was the one just done end; their loads drop
 // out at the next updateLoads.
 #include "cga_rigid_sim/sim/stages.h"
-#include "wrench_schedule.h"
+#include "sim/input/wrench_schedule.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -1,9 +1,9 @@
 // Stage 1 of the step: the inputs due at step k take effect, in (step, arrival) order.
-#include "cga_rigid_sim/dynamics/impulse.h"
+#include "cga_rigid_sim/body/impulse.h"
 #include "cga_rigid_sim/sim/stages.h"
-#include "coasting.h"
-#include "curved_bodies.h"
-#include "wrench_schedule.h"
+#include "sim/coasting.h"
+#include "sim/curved_bodies.h"
+#include "sim/input/wrench_schedule.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -1,11 +1,11 @@
 // Stage 3 of the step: every moving body is advanced over [t_k, t_k + dt] by its integrator,
 // then the clock advances.
-#include "body_ranges.h"
-#include "cga_rigid_sim/dynamics/at_rest.h"
+#include "cga_rigid_sim/body/at_rest.h"
 #include "cga_rigid_sim/sim/stages.h"
-#include "coasting.h"
-#include "contact_momentum.h"
-#include "curved_bodies.h"
+#include "contact/contact_momentum.h"
+#include "sim/body_ranges.h"
+#include "sim/coasting.h"
+#include "sim/curved_bodies.h"
 
 namespace cga_rigid_sim {
 namespace sim {

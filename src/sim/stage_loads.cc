@@ -2,7 +2,7 @@
 // active wrenches, summed in the order they started. Only bodies whose set of wrenches changed
 // are rebuilt.
 #include "cga_rigid_sim/sim/stages.h"
-#include "coasting.h"
+#include "sim/coasting.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "cga_rigid_sim/sim/stages.h"
-#include "contact_trees.h"
+#include "contact/contact_trees.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -1,9 +1,9 @@
-#include "state_edit.h"
+#include "sim/state_edit.h"
 
 #include "cga_rigid_sim/scene/placement.h"
-#include "input_admission.h"
-#include "input_rules.h"
-#include "wrench_schedule.h"
+#include "sim/input/input_admission.h"
+#include "sim/input/input_rules.h"
+#include "sim/input/wrench_schedule.h"
 
 namespace cga_rigid_sim {
 namespace sim {

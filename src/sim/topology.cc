@@ -1,10 +1,10 @@
-#include "topology.h"
+#include "sim/topology.h"
 
 #include "cga_rigid_sim/scene/placement.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
-#include "input_rules.h"
-#include "state_edit.h"
-#include "wrench_schedule.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
+#include "sim/input/input_rules.h"
+#include "sim/input/wrench_schedule.h"
+#include "sim/state_edit.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -1,14 +1,14 @@
 // compileTrees: the scene's joints → Model::trees (doc/articulated.md#trees). Called by
 // compileModel once every body has its index.
-#include "tree_compile.h"
+#include "sim/tree_compile.h"
 
 #include <cmath>
 #include <unordered_map>
 
-#include "cga_rigid_sim/dynamics/tree_integrator.h"
 #include "cga_rigid_sim/math/union_find.h"
 #include "cga_rigid_sim/sim/model.h"
-#include "input_rules.h"
+#include "cga_rigid_sim/tree/tree_integrator.h"
+#include "sim/input/input_rules.h"
 
 namespace cga_rigid_sim {
 namespace sim {

@@ -8,9 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/inertia.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
 
 namespace cga_rigid_sim {
 namespace testing {

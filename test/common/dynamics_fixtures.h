@@ -1,7 +1,7 @@
-// Small fixtures shared by the dynamics tests (test/dynamics): an inertia from principal
-// moments, distances between motors, attitudes and states, a fixed mix of loads, and a loop of
-// integrator steps. Helpers whose values differ between test files (each file's own loads,
-// state builders) stay in those files.
+// Small fixtures shared by the tests of one body, trees and curved space (test/body, test/tree,
+// test/curved): an inertia from principal moments, distances between motors, attitudes and states,
+// a fixed mix of loads, and a loop of integrator steps. Helpers whose values differ between test
+// files (each file's own loads, state builders) stay in those files.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,13 +11,13 @@
 #include <cmath>
 #include <limits>
 
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/body/inertia.h"
+#include "cga_rigid_sim/body/integrator.h"
+#include "cga_rigid_sim/body/loads.h"
 #include "cga_rigid_sim/cga/force.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/derived.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
-#include "cga_rigid_sim/dynamics/loads.h"
 
 namespace cga_rigid_sim {
 namespace testing {

@@ -1,5 +1,5 @@
 // Random rigid-body and tree data for the articulated tests
-// (test/dynamics/articulated_body_test.cc, tree_integrator_residual_test.cc): vectors, motors, box
+// (test/tree/articulated_body_test.cc, tree_integrator_residual_test.cc): vectors, motors, box
 // inertias and trees of revolute and prismatic joints (every third prismatic), all from a caller's
 // seeded generator.
 #pragma once
@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
+#include "cga_rigid_sim/body/inertia.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/articulated_body.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/tree/articulated_body.h"
 
 namespace cga_rigid_sim {
 namespace testing {

@@ -1,12 +1,12 @@
-// Small fixtures shared by the tree tests (test/dynamics/tree_integrator_test.cc, mimic_test.cc):
+// Small fixtures shared by the tree tests (test/tree/tree_integrator_test.cc, mimic_test.cc):
 // a tree integrator by name, and a tree's energy under uniform gravity.
 #pragma once
 
 #include <memory>
 #include <string>
 
-#include "cga_rigid_sim/dynamics/articulated_body.h"
-#include "cga_rigid_sim/dynamics/tree_integrator.h"
+#include "cga_rigid_sim/tree/articulated_body.h"
+#include "cga_rigid_sim/tree/tree_integrator.h"
 
 namespace cga_rigid_sim {
 namespace testing {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/ros/conversions.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/scene/scene_summary.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {

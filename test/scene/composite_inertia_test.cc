@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -70,7 +70,7 @@ TEST(CompositeInertia, DumbbellMatchesHandDerivation) {
   EXPECT_EQ(body.merged_joints, (std::vector<std::string>{"weight_a_weld", "weight_b_weld"}));
   Eigen::Matrix3d J = Eigen::Vector3d(0.0021, 0.1337, 0.1337).asDiagonal();
   expectComposite(compositeOf(body, scene.lambda), 2.5, Eigen::Vector3d(0.25, 0, 0), J);
-  // Symmetric: the distinct axis (the rod) is B's e3 (dynamics/inertia.h).
+  // Symmetric: the distinct axis (the rod) is B's e3 (body/inertia.h).
   EXPECT_EQ(body.inertia->inertiaClass(), dynamics::InertiaClass::kSymmetric);
   EXPECT_NEAR(body.inertia->principalMoments()[2], 0.0021, kTol);
   EXPECT_NEAR(body.inertia->principalMoments()[0], 0.1337, kTol);

@@ -16,7 +16,7 @@
 #include <limits>
 #include <string>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {

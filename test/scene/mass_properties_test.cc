@@ -22,7 +22,7 @@
 
 #include "cga_rigid_sim/math/constants.h"
 #include "cga_rigid_sim/scene/mesh.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 
 namespace cga_rigid_sim {
 namespace scene {

@@ -8,7 +8,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {

@@ -10,7 +10,7 @@
 #include <limits>
 #include <sstream>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {

@@ -11,12 +11,12 @@
 
 #include <cmath>
 
-#include "cga_rigid_sim/dynamics/tree_integrator.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/sim/reports.h"
 #include "cga_rigid_sim/sim/stages.h"
+#include "cga_rigid_sim/tree/tree_integrator.h"
 #include "common/real_like_robots.h"
 
 namespace cga_rigid_sim {

@@ -9,7 +9,7 @@
 #include <new>
 #include <random>
 
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "sim/world_fixtures.h"
 
 #if defined(__SANITIZE_ADDRESS__)

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "cga_rigid_sim/dynamics/impulse.h"
-#include "cga_rigid_sim/dynamics/integrator_exact.h"
+#include "cga_rigid_sim/body/impulse.h"
+#include "cga_rigid_sim/body/integrator_exact.h"
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {

@@ -9,9 +9,9 @@
 
 #include <cmath>
 
-#include "cga_rigid_sim/dynamics/curved_derived.h"
-#include "cga_rigid_sim/dynamics/curved_integrator.h"
-#include "cga_rigid_sim/dynamics/derived.h"
+#include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/curved/curved_derived.h"
+#include "cga_rigid_sim/curved/curved_integrator.h"
 #include "common/axis_splitting.h"
 #include "common/dynamics_fixtures.h"
 #include "sim/world_fixtures.h"

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/inertia.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/world.h"
 

@@ -1,4 +1,4 @@
-// Conversions between ROS messages and the core's types (sim/world.h, sim/inputs.h).
+// Conversions between ROS messages and the core's types (sim/world.h, sim/input/inputs.h).
 //
 // The node is thin glue: these functions only change representation. Where a message can hold
 // something the core type cannot (a non-unit quaternion, NaN in a field the core never sees),
@@ -7,7 +7,7 @@
 // unknown bodies and frames, stamps already past) stays in World.
 //
 // Time: every stamp is simulation time. A ROS time t ↔ t.toSec() seconds of simulation; the
-// zero stamp means "the next step" for inputs (sim/inputs.h).
+// zero stamp means "the next step" for inputs (sim/input/inputs.h).
 #pragma once
 
 #include <cga_rigid_sim/ApplyJointEffort.h>
@@ -38,7 +38,7 @@
 
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
-#include "cga_rigid_sim/sim/inputs.h"
+#include "cga_rigid_sim/sim/input/inputs.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {
@@ -87,14 +87,14 @@ Result<sim::WrenchInput> toWrenchInput(const geometry_msgs::WrenchStamped& msg,
 /// sensor_msgs/JointState → held joint efforts: `name`, `effort` and header.stamp (simulation
 /// time to take effect, zero = the next step); `position` and `velocity` are ignored (an effort
 /// command, as ros_control's effort controllers take it). Never refuses: World checks the
-/// lengths, the names, finiteness and the stamp (sim/inputs.h JointEffortInput).
+/// lengths, the names, finiteness and the stamp (sim/input/inputs.h JointEffortInput).
 sim::JointEffortInput toJointEffortInput(const sensor_msgs::JointState& msg);
 /// The ~apply_joint_effort request as a timed effort (the fields map one to one).
 sim::TimedJointEffortInput toTimedJointEffortInput(
     const cga_rigid_sim::ApplyJointEffort::Request& req);
 
 /// The text of a World refusal as the user of `topic` reads it. The core's Error names its
-/// own input and fields (sim/inputs.h: apply_impulse.J, apply_wrench.couple, start_time,
+/// own input and fields (sim/input/inputs.h: apply_impulse.J, apply_wrench.couple, start_time,
 /// frame, joint_efforts.stamp); this names the topic and the message's own field instead
 /// (apply_impulse.f, apply_wrench.torque, header.stamp, header.frame_id; for the plain `wrench`
 /// topic wrench.wrench.force, …), keeping the sub-field (".x", "[2]") and the rule. `topic` is

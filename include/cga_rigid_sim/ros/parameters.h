@@ -13,7 +13,7 @@
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/scene/param_value.h"
-#include "cga_rigid_sim/scene/urdf_loader.h"
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/world.h"
 
 namespace cga_rigid_sim {
@@ -26,7 +26,7 @@ struct NodeParams {
   std::string urdf_file;         ///< path, when urdf_from_file
   std::string urdf_xml;          ///< the XML, when !urdf_from_file
   std::string urdf_source_name;  ///< resolved parameter name or path, for messages
-  /// The SRDF (self-collision rules, scene/srdf.h): `~srdf_file` (a path) when set, else the
+  /// The SRDF (self-collision rules, scene/urdf/srdf.h): `~srdf_file` (a path) when set, else the
   /// string parameter `robot_description_semantic` (MoveIt's name), else none (empty).
   std::string srdf_file;
   std::string srdf_xml;

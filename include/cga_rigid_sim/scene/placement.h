@@ -11,8 +11,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "cga_rigid_sim/body/body_state.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
 
 namespace cga_rigid_sim {
 namespace scene {

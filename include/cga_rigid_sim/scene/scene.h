@@ -2,7 +2,7 @@
 // (What changes as the simulation runs, the body states, lives in sim::World.)
 //
 // A body is a set of links merged by fixed joints. Its reference frame B has its origin at the
-// body's centre of mass and its axes along the principal axes (dynamics/inertia.h); every
+// body's centre of mass and its axes along the principal axes (body/inertia.h); every
 // merged link keeps its frame as a constant motor M_BL so its pose M_WL = M_WB M_BL can be
 // published. Static bodies (fixed to `world`) are never stepped; their B is their root link's
 // frame. Every <collision> of the merged links becomes a CollisionShape of the body, at its
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/body/inertia.h"
 #include "cga_rigid_sim/cga/bivelocity.h"
 #include "cga_rigid_sim/cga/motor.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
 #include "cga_rigid_sim/scene/joint.h"
 #include "cga_rigid_sim/scene/self_collision.h"
@@ -67,7 +67,7 @@ struct Scene {
   int findLink(const std::string& link, int* link_index = nullptr) const;
 };
 
-/// The integrator names the summary knows (those of dynamics/integrator.h, in its order).
+/// The integrator names the summary knows (those of body/integrator.h, in its order).
 const std::vector<std::string>& summaryIntegratorNames();
 
 /// The integrator path a body takes under `integrator` with the loads the scene itself defines

@@ -13,15 +13,15 @@
 #include <memory>
 #include <vector>
 
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/curved_integrator.h"
-#include "cga_rigid_sim/dynamics/integrator.h"
-#include "cga_rigid_sim/dynamics/loads.h"
-#include "cga_rigid_sim/dynamics/tree_integrator.h"
-#include "cga_rigid_sim/dynamics/tree_workspace.h"
-#include "cga_rigid_sim/sim/contact.h"
-#include "cga_rigid_sim/sim/input_queue.h"
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/integrator.h"
+#include "cga_rigid_sim/body/loads.h"
+#include "cga_rigid_sim/contact/contact.h"
+#include "cga_rigid_sim/curved/curved_integrator.h"
+#include "cga_rigid_sim/sim/input/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
+#include "cga_rigid_sim/tree/tree_integrator.h"
+#include "cga_rigid_sim/tree/tree_workspace.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -56,9 +56,9 @@ struct MovingBodyData {
   /// (doc/contacts.md#time-stepping); zero otherwise.
   Eigen::Vector3d contact_shift_W = Eigen::Vector3d::Zero();
   /// A body in contact carries its momentum from one contact step to the next in world axes
-  /// (src/sim/contact_momentum.h, doc/contacts.md#world-momentum): its centre's velocity and its
-  /// angular momentum about the centre, each a compensated sum hi + lo. It holds while the state
-  /// is the one the last contact drift left (the key); anything else that changes the state
+  /// (src/contact/contact_momentum.h, doc/contacts.md#world-momentum): its centre's velocity and
+  /// its angular momentum about the centre, each a compensated sum hi + lo. It holds while the
+  /// state is the one the last contact drift left (the key); anything else that changes the state
   /// makes the next contact step start again from the state.
   struct ContactMomentum {
     Eigen::Vector3d v_hi = Eigen::Vector3d::Zero(), v_lo = Eigen::Vector3d::Zero();  ///< m/s
@@ -85,7 +85,7 @@ struct MovingBodyData {
   std::unique_ptr<dynamics::CurvedIntegrator> curved_integrator;
 };
 
-struct ContactScratch;  // the contacts stage's geometry and arrays (src/sim/contact_scratch.h)
+struct ContactScratch;  // the contacts stage's geometry and arrays (src/contact/contact_scratch.h)
 
 /// A timed effort that has started on one joint of a tree.
 struct ActiveEffort {

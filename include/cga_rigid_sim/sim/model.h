@@ -16,14 +16,14 @@
 #include <utility>
 #include <vector>
 
-#include "cga_rigid_sim/dynamics/articulated_body.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
-#include "cga_rigid_sim/dynamics/curved_inertia.h"
-#include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/body/body_state.h"
+#include "cga_rigid_sim/body/inertia.h"
+#include "cga_rigid_sim/contact/self_collision.h"
+#include "cga_rigid_sim/curved/curved_inertia.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
-#include "cga_rigid_sim/sim/self_collision.h"
 #include "cga_rigid_sim/sim/world_config.h"
+#include "cga_rigid_sim/tree/articulated_body.h"
 
 namespace cga_rigid_sim {
 namespace sim {

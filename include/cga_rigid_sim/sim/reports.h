@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/body/body_state.h"
 #include "cga_rigid_sim/cga/bivector4.h"
-#include "cga_rigid_sim/dynamics/body_state.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/model.h"
 

@@ -61,7 +61,7 @@
 
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
-#include "cga_rigid_sim/sim/inputs.h"
+#include "cga_rigid_sim/sim/input/inputs.h"
 #include "cga_rigid_sim/sim/reports.h"
 #include "cga_rigid_sim/sim/world_config.h"
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "cga_rigid_sim/dynamics/inertia.h"
+#include "cga_rigid_sim/body/inertia.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
 #include "cga_rigid_sim/scene/self_collision.h"
 
@@ -140,7 +140,7 @@ struct WorldConfig {
   int max_active_wrenches_per_body = 64;
   /// Curved space (the node's ~curvature; doc/curved_space.md): the radius R, m, of a space of
   /// constant curvature, > 0 the 3-sphere, < 0 hyperbolic space; unset = Euclidean space. The
-  /// bodies then move "1 up" (dynamics/curved_integrator.h) and are reported in the
+  /// bodies then move "1 up" (curved/curved_integrator.h) and are reported in the
   /// stereographic chart. Free bodies only, with gravity off; integrators auto, curved2,
   /// curved_exact; wrenches and impulses act 1 up; no contacts, state edits or spawning yet.
   std::optional<double> curvature;

@@ -1,0 +1,111 @@
+// Internal to the scene layer: the reader behind readUrdfXml (urdf_xml.h), shared by the two
+// files that implement it — urdf_xml.cc (the document, links, joints, the tree, the mass
+// extension) and urdf_collision.cc (collision geometry, contact parameters, Gazebo friction).
+#pragma once
+
+#include <tinyxml2.h>
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/result.h"
+#include "scene/urdf/urdf_xml.h"
+
+namespace cga_rigid_sim {
+namespace scene {
+namespace detail {
+
+using tinyxml2::XMLAttribute;
+using tinyxml2::XMLElement;
+
+// urdfdom's Vector3::init: the text is split at spaces, empty pieces are skipped, and exactly
+// three numbers must remain.
+inline bool parseTriple(const char* text, Eigen::Vector3d* out) {
+  std::istringstream in{std::string(text)};
+  std::string piece;
+  int n = 0;
+  while (std::getline(in, piece, ' ')) {
+    if (piece.empty()) continue;
+    if (n == 3 || !parseUrdfNumber(piece.c_str(), &(*out)[n])) return false;
+    ++n;
+  }
+  return n == 3;
+}
+
+// Fixed-axis roll, pitch, yaw as URDF defines them: R = Rz(yaw) Ry(pitch) Rx(roll).
+inline Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+class Reader {
+ public:
+  Reader(const std::string& source, const std::string& world_frame)
+      : source_(source), world_frame_(world_frame) {}
+
+  Result<UrdfXml> read(const std::string& xml);
+
+ private:
+  struct JointEdge {
+    std::string name, parent, child;
+    int line = 0;
+  };
+  // One <mu1> or <mu2> of a <gazebo reference="…">, as written.
+  struct GazeboNumber {
+    std::string text;
+    int line = 0;
+  };
+  struct GazeboFriction {
+    std::string reference;
+    int line = 0;
+    std::optional<GazeboNumber> mu1, mu2;
+  };
+
+  Error fail(int line, const std::string& what) const {
+    return Error{source_ + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what};
+  }
+  // "<owner>: <element attr> must be … (got '…')", or nothing when the attribute is fine.
+  std::optional<Error> readNumberAttr(const XMLElement* e, const char* attr,
+                                      const std::string& owner, bool required, double* out) const;
+  std::optional<Error> readOrigin(const XMLElement* parent, const std::string& owner,
+                                  Eigen::Isometry3d* X) const;
+  std::optional<Error> readGeometry(const XMLElement* holder, const std::string& owner, bool strict,
+                                    CollisionGeometry* g) const;
+  std::optional<Error> readCollision(const XMLElement* e, const std::string& link, int k,
+                                     CollisionGeometry* g) const;
+  std::optional<Error> readContact(const XMLElement* e, const std::string& owner,
+                                   SurfaceParameters* surface) const;
+  void readGazebo(const XMLElement* e);
+  std::optional<Error> readSelfCollide(const XMLElement* e);
+  std::optional<Error> applyGazeboFriction();
+  std::optional<Error> readLink(const XMLElement* e, int order);
+  std::optional<Error> readJoint(const XMLElement* e, int order);
+  // <axis>, <limit> and <dynamics> of a revolute, continuous or prismatic joint.
+  std::optional<Error> readJointMotion(const XMLElement* e, const std::string& owner,
+                                       JointXml* joint);
+  // After the link's collisions are read (it needs at least one).
+  std::optional<Error> readMassFromGeometry(const std::string& owner, const XMLElement* ext,
+                                            LinkXml* out) const;
+  std::optional<Error> checkExtensionPlacement(const XMLElement* robot) const;
+  std::optional<Error> checkTree() const;
+  // Every <mimic> names another articulated joint, and following them never loops.
+  std::optional<Error> checkMimics() const;
+
+  const std::string& source_;
+  const std::string& world_frame_;
+  UrdfXml out_;
+  std::vector<JointEdge> edges_;
+  std::vector<std::string> link_names_;                          // document order
+  std::vector<GazeboFriction> gazebo_;                           // document order
+  std::vector<std::pair<std::string, int>> self_collide_lines_;  // <self_collide> per link, line
+};
+
+}  // namespace detail
+}  // namespace scene
+}  // namespace cga_rigid_sim

@@ -1,0 +1,108 @@
+// JointRows (joint_rows.h).
+#include "tree/joint_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+namespace {
+// Gauss–Seidel sweeps stop when no impulse changes a rate by more than this (m/s or rad/s,
+// relative to 1 + |ν̄|∞) — round-off of the rates — or after kMaxSweeps.
+constexpr double kSweepTolerance = 1e-14;
+constexpr int kMaxSweeps = 100;
+}  // namespace
+
+void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
+                      const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar) {
+  rows_.clear();
+  held_.clear();
+  if (&tree != tree_) {  // the joints with friction or limits, once per tree
+    tree_ = &tree;
+    watched_.clear();
+    // Per independent coordinate (a joint's own without mimic joints; with them, the limits
+    // and friction of the joints that follow it mapped onto their leader's).
+    for (const JointCoordinate& c : tree.coordinates())
+      if (c.friction > 0 || c.hasLimits())
+        watched_.push_back({c.joint, tree.reducedIndex(c.joint), c.lower, c.upper, c.friction});
+  }
+  for (const Watched& j : watched_) {
+    const int k = j.joint, i = j.index;
+    if (j.friction > 0) rows_.push_back({i, Kind::kFriction, 0.0, 0.5 * h * j.friction});
+    const double end = q[k] + h * nu_bar[i];
+    if (end <= j.lower || q[k] <= j.lower)
+      rows_.push_back({i, Kind::kLower, (j.lower - q[k]) / h, 0.0});
+    if (end >= j.upper || q[k] >= j.upper)
+      rows_.push_back({i, Kind::kUpper, (j.upper - q[k]) / h, 0.0});
+  }
+  if (rows_.empty()) return;
+  columns_.resize(rows_.size());
+  for (std::size_t r = 0; r < rows_.size(); ++r) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(nu_bar.size());
+    e[rows_[r].index] = 1.0;
+    columns_[r] = llt.solve(e);
+  }
+  const double scale = 1.0 + nu_bar.cwiseAbs().maxCoeff();
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    double largest = 0.0;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      Row& row = rows_[r];
+      const double v = nu_bar[row.index], a = columns_[r][row.index];
+      double y = row.y;
+      switch (row.kind) {
+        case Kind::kLower:
+          y = std::max(0.0, y + (row.target - v) / a);
+          break;
+        case Kind::kUpper:
+          y = std::min(0.0, y + (row.target - v) / a);
+          break;
+        case Kind::kFriction:
+          y = std::clamp(y - v / a, -row.bound, row.bound);
+          break;
+      }
+      const double dy = y - row.y;
+      if (dy != 0.0) nu_bar += columns_[r] * dy;
+      largest = std::max(largest, std::abs(dy * a));
+      row.y = y;
+    }
+    if (largest <= kSweepTolerance * scale) break;
+  }
+  for (const Row& row : rows_) {
+    const bool held = row.kind == Kind::kFriction ? std::abs(row.y) < row.bound : row.y != 0.0;
+    if (held && std::find(held_.begin(), held_.end(), row.index) == held_.end())
+      held_.push_back(row.index);
+  }
+}
+
+void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const {
+  for (const JointCoordinate& c : tree.coordinates())
+    if (c.hasLimits()) q[c.joint] = std::clamp(q[c.joint], c.lower, c.upper);
+  applyMimicPositions(tree, q);
+}
+
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu) {
+  const int m = static_cast<int>(held.size());
+  if (m == 0) return;
+  Eigen::MatrixXd AE(nu.size(), m), G(m, m);
+  Eigen::VectorXd v(m);
+  for (int c = 0; c < m; ++c) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(nu.size());
+    e[held[c]] = 1.0;
+    AE.col(c) = llt.solve(e);
+    v[c] = nu[held[c]];
+  }
+  for (int r = 0; r < m; ++r) G.row(r) = AE.row(held[r]);
+  nu += AE * G.llt().solve(-v);
+  for (int c = 0; c < m; ++c) nu[held[c]] = 0.0;  // exactly, not to round-off
+}
+
+bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
+                         Eigen::VectorXd& nu) const {
+  if (held_.empty()) return false;
+  stopRates(llt, held_, nu);
+  return true;
+}
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim

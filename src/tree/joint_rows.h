@@ -1,0 +1,81 @@
+// JointRows: the unilateral and frictional joint forces of a tree step — position limits and
+// Coulomb friction — as impulses y on the joint rates, solved by projected Gauss–Seidel over the
+// few joints concerned (doc/articulated.md#limits-and-friction). Internal to the tree integrators.
+//
+// Given the step's linear system A⁻¹ ν̄ = r (A⁻¹ = M + ½hC, factored), ν̄ moves to ν̄ + A y with
+//   limits:   q + h ν̄_k ≥ lower (y_k ≥ 0), q + h ν̄_k ≤ upper (y_k ≤ 0), complementary;
+//   friction: |y_k| ≤ ½ h F_k, opposing ν̄_k, ν̄_k = 0 while |y_k| < ½ h F_k (sticking).
+// Joints a limit or friction holds are "held": at the end of the step their rates are set to
+// zero by a further impulse (stopHeld), so a stop is inelastic and a stuck joint does not
+// jitter. Both impulses are projections in the metric of M: kinetic energy never grows.
+// The rows act on the tree's independent coordinates (ArticulatedBody::coordinates(): each
+// joint's own without mimic joints), in the space the step solves in (ν, or ν_r with mimic
+// joints: llt and ν̄ are then reduced, and q stays the full vector of joint positions).
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <vector>
+
+#include "cga_rigid_sim/tree/articulated_body.h"
+#include "tree/tree_math.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+
+/// Sets the rates ν_k, k in `held` (velocity indices), to zero with the impulse on those joints
+/// that does it in the metric of M (llt: M's factor): ν ← ν + A E z, (Eᵀ A E) z = −Eᵀ ν, A = M⁻¹.
+/// An impulse on joints only: it keeps a floating tree's momentum and never raises the kinetic
+/// energy (a projection in the metric of M).
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu);
+
+class JointRows {
+ public:
+  /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
+  void solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt, const Eigen::VectorXd& q,
+             double h, Eigen::VectorXd& nu_bar);
+  /// Positions within the limits (removes the round-off of q + h ν̄ at a stop); mimic joints'
+  /// positions set from their leaders'.
+  void clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const;
+  /// Sets the rates of held joints to zero with the impulse that does it in the metric of M
+  /// (llt: M at the new pose). Returns whether anything was held.
+  bool stopHeld(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
+                Eigen::VectorXd& nu) const;
+  /// The impulses of the last solve as a vector over ν (zero where no row acts).
+  void impulses(Eigen::VectorXd& y) const {
+    y.setZero();
+    for (const Row& r : rows_) y[r.index] += r.y;
+  }
+  /// Joints held in the last solve (velocity indices).
+  const std::vector<int>& held() const { return held_; }
+  /// Whether a limit (not friction) acted in the last solve.
+  bool limitActed() const {
+    for (const Row& r : rows_)
+      if (r.kind != Kind::kFriction && r.y != 0.0) return true;
+    return false;
+  }
+
+ private:
+  enum class Kind { kLower, kUpper, kFriction };
+  struct Row {
+    int index;  // velocity index
+    Kind kind;
+    double target;  // limits: the rate that reaches the limit in h
+    double bound;   // friction: ½ h F
+    double y = 0.0;
+  };
+  // Joints with friction or limits (those without are never held), of the tree last solved
+  // (an integrator, and its rows, belong to one tree). Unlimited bounds are ±∞: no row.
+  struct Watched {
+    int joint, index;
+    double lower, upper, friction;
+  };
+  const ArticulatedBody* tree_ = nullptr;
+  std::vector<Watched> watched_;
+  std::vector<Row> rows_;
+  std::vector<int> held_;
+  std::vector<Eigen::VectorXd> columns_;
+};
+
+}  // namespace dynamics
+}  // namespace cga_rigid_sim
