@@ -60,7 +60,7 @@ void applyToBodies(const Model& model, Data& data, ContactScratch& S) {
   const Eigen::Vector3d& g = model.scene.gravity_W;
   for (std::size_t s = 0; s < S.bodies.size(); ++s) {
     if (S.landing[s]) continue;           // stepped through already
-    if (S.bodies[s].tree >= 0) continue;  // its tree books its step (stage_trees.cc)
+    if (S.bodies[s].tree >= 0) continue;  // its tree books its step (contact_tree_end.cc)
     const int i = S.moving_of_slot[s];
     MovingBodyData& b = data.bodies[i];
     const dynamics::Inertia& I = model.moving[i].inertia;

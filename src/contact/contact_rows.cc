@@ -28,7 +28,7 @@ const Contact* previousOf(const Data& data, const ContactScratch& S, const Conta
   return nullptr;
 }
 
-// What the tree stage checks a tree's contact step against (stage_trees.cc): a floating
+// What the contact step's guard checks a tree against (contact_tree_end.cc): a floating
 // tree's momentum changes by the impulses of its contacts with anything else (its contacts
 // with itself cancel), and a tree's energy by the work of contacts with other moving bodies.
 void noteTreeReferences(const Model& model, Data& data, const ContactScratch& S) {
@@ -104,7 +104,9 @@ void solveRows(const Model& model, Data& data, ContactScratch& S, const SolverSe
   solvePositions(st, S.bodies, S.trees, S.rows, S.work);
   for (std::size_t u = 0; u < S.trees.size(); ++u) {
     const int t = S.tree_of_solver_tree[u];
-    if (S.tree_used[u]) takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
+    if (!S.tree_used[u]) continue;
+    takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
+    noteTreeImpulsesTaken(model, data, t);
   }
   noteTreeReferences(model, data, S);
 }

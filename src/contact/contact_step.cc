@@ -1,8 +1,10 @@
 // The contacts stage (doc/contacts.md): detection at the step's start, then for every body that
 // touches something a kick by its loads and the contact impulses, solved together; the
-// integration then drifts those bodies torque-free (stage_integrate.cc) and the trees by their
-// own integrators (stage_trees.cc). Bodies that touch nothing are left alone: they keep their
-// exact or symplectic path. The sub-stages are in contact_step.h.
+// integration then drifts those bodies torque-free and the trees by their own integrators,
+// and the contact step ends in this folder: contact_drift.cc for a body (called by
+// stage_integrate.cc), contact_tree_end.cc for a tree (correction, energy book and guards,
+// called by stage_trees.cc). Bodies that touch nothing are left alone: they keep their exact or
+// symplectic path. The sub-stages are in contact_step.h.
 #include "contact/contact_step.h"
 
 #include "cga_rigid_sim/sim/stages.h"

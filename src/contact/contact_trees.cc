@@ -83,7 +83,7 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu += h * S.nu_dot;
 
   dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
-  // The scale of the energy guard's tolerance (stage_trees.cc): symplectic Euler's error over
+  // The scale of the energy guard's tolerance (contact_tree_end.cc): symplectic Euler's error over
   // one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
   {
     const double rate = std::max(out.nu.cwiseAbs().maxCoeff(),

@@ -1,7 +1,8 @@
 // Articulated trees in the contacts stage (doc/contacts.md#trees): a tree with a link in a
 // contact is kicked by its loads like a free body, ν ← ν + h M(q)⁻¹ (τ + Q), takes the contact
 // impulses through its links' Jacobians (contact_solver.h) and then drifts over the step with
-// its own integrator and no loads (stage_trees.cc); the energy book covers the whole step.
+// its own integrator and no loads (stage_trees.cc); then the contact step ends here
+// (contact_tree_end.cc): correction, energy book, guards.
 #pragma once
 
 #include "cga_rigid_sim/sim/data.h"
@@ -23,6 +24,18 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 /// position correction kept for after the drift.
 void takeTreeImpulses(const SolverTree& solved, TreeData& td,
                       const dynamics::ArticulatedBody& tree);
+
+/// Keeps the world momentum tree t has after the contact impulses (a floating tree's), against
+/// which the contact step's momentum guard measures the drift.
+void noteTreeImpulsesTaken(const Model& model, Data& data, int t);
+
+/// Ends the contact step of tree t after its drift (contact_tree_end.cc): the position
+/// correction, paid from the kinetic energy when it raises the energy and keeping a floating
+/// tree's momentum; the step's energy booked (what the tree had plus the inputs' work minus what
+/// it has); the guards: the energy may not rise beyond the inputs' work, a floating tree's
+/// momentum must be the one its impulses give. Returns false, the fault recorded, when a guard
+/// is broken; else adds the booked energy to Data::dissipated_energy.
+bool finishTreeContactStep(const Model& model, Data& data, int t);
 
 /// Kinetic plus potential energy of tree t (uniform gravity), J, at the poses and velocities of
 /// `kin`.

@@ -151,7 +151,8 @@ struct TreeStageScratch {
   dynamics::TreeWorkspace algorithms;  ///< the tree algorithms' (mass matrix, ABA, …)
   dynamics::TreeKinematics write_kin;  ///< writeTreeBodies: the tree's poses and velocities
   dynamics::TreeKinematics sleep_kin;  ///< putTreeToSleep: the tree's energy
-  /// endContactStep: the tree's kinematics, and the tree moved by the position correction
+  /// correctAndBook (contact_tree_end.cc): the tree's kinematics, and the tree moved by the
+  /// position correction
   dynamics::TreeKinematics end_kin;
   dynamics::TreeState moved;
   Eigen::MatrixXd split_M;   ///< splitMomentum: the mass matrix
@@ -159,8 +160,8 @@ struct TreeStageScratch {
   /// limitedStepBook: the kinematics of the state before the step and after it
   dynamics::TreeKinematics book_kin;
   dynamics::TreeState before;
-  dynamics::TreeKinematics check_kin;   ///< contactStepBroken
-  dynamics::TreeKinematics solved_kin;  ///< integrateTrees: the momentum the impulses left
+  dynamics::TreeKinematics check_kin;   ///< contactStepBroken (contact_tree_end.cc)
+  dynamics::TreeKinematics solved_kin;  ///< noteTreeImpulsesTaken: the momentum the impulses left
   dynamics::TreeKinematics undo_kin;    ///< undoFaultyStep
   /// kickTree (contact_trees.cc): the tree's kinematics and at rest, its state at rest, the
   /// loads' moments, ν̇ and M ν̇, the reduced mass matrix.

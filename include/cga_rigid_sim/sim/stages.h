@@ -14,11 +14,12 @@
 //                    contact impulses, solved together, act on it as user impulses do
 //                    (contact_step.cc and its sub-stages in contact_step.h, doc/contacts.md);
 //   integrateTrees   every articulated tree over the step with its tree integrator (gravity and
-//                    its loads; a tree the contacts stage kicked drifts without them); its
-//                    bodies' states are then written from the tree's (stage_trees.cc,
-//                    doc/articulated.md);
+//                    its loads; a tree the contacts stage kicked drifts without them, and its
+//                    contact step ends in contact/contact_tree_end.cc); its bodies' states are
+//                    then written from the tree's (stage_trees.cc, doc/articulated.md);
 //   integrateBodies  every moving body over [t_k, t_{k+1}] with its integrator (a body the
-//                    contacts stage kicked drifts torque-free and without gravity); a body with no
+//                    contacts stage kicked drifts torque-free and without gravity, and its
+//                    contact step ends in contact/contact_drift.cc); a body with no
 //                    load and Ω_B = 0 is at rest under every integrator and is skipped; then the
 //                    clock advances, t = (k + 1)·dt (stage_integrate.cc). The bodies are
 //                    independent here, so a WorkerPool may split them between threads;
