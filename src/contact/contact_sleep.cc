@@ -142,8 +142,8 @@ bool wakeTouched(const Model& model, Data& data, SleepState& S, const std::vecto
 void fallAsleep(const Model& model, Data& data, SleepState& S) {
   if (!model.config.contact_sleeping) return;
   // Nothing touches anything and no still steps are counted: nothing can fall asleep, and the
-  // per-body passes below would cost a few ns per body and step of every free body (serially:
-  // the World at 10 000 free bodies on 2 threads went from 17 to 35 ns a body-step).
+  // serial per-body passes below would cost every free body in every step
+  // (doc/decisions.md#threads).
   if (data.contacts.empty() && S.contacts.empty() && !S.counting) return;
   const std::size_t n = data.bodies.size();
   const double lambda = model.lambda, h = model.config.dt;

@@ -48,9 +48,9 @@ void integrateBodies(const Model& model, Data& data, WorkerPool* pool = nullptr)
 void solveContacts(const Model& model, Data& data);
 
 /// Fewer bodies than this per thread are integrated on the calling thread alone: handing a
-/// step to the workers and waiting for them costs some 10–30 µs (two wake-ups through a
-/// condition variable), the time of ≈ 100–300 body-steps; from 256 per thread on it is a small
-/// fraction of the work.
+/// step to the workers and waiting for them (two wake-ups through a condition variable) costs
+/// the time of a few hundred body-steps, so below this it is not worth it
+/// (doc/decisions.md#threads).
 constexpr std::size_t kMinBodiesPerThread = 256;
 void expireInputs(const Model& model, Data& data);
 /// Sets every tree's loads for the step (efforts clamped and counted, links' applied loads).
