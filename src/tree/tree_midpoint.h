@@ -92,7 +92,7 @@ class Midpoint final : public TreeIntegrator {
   // One midpoint step; false when the iteration did not converge.
   bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state);
 
-  // The next step's starting ν̄, guess_ (tree_midpoint_guess.cc).
+  // The next step's starting ν̄, guess_ (tree_midpoint_guess.h).
   void predictNext(int nv);
   template <int M>
   void updateDifferences(int nv, double* err, int m = M);
