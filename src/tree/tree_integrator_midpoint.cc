@@ -15,14 +15,15 @@
 // independent positions), the matrix Gᵀ (M + ½hC) G; the followers' positions are set from their
 // leaders' after each step. A fixed base stays symplectic: these are canonical coordinates of
 // the constrained system.
+//
+// This file: the step (the iteration and the step's end) and its halving; the class and its
+// state: tree_midpoint.h; the iteration's starting guess: tree_midpoint_guess.h.
 #include <algorithm>
 #include <cmath>
 
-#include "cga_rigid_sim/tree/tree_integrator.h"
-#include "tree/joint_rows.h"
-#include "tree/tree_integrator_residual.h"
 #include "tree/tree_integrators.h"
-#include "tree/tree_math.h"
+#include "tree/tree_midpoint.h"
+#include "tree/tree_midpoint_guess.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -49,473 +50,320 @@ constexpr int kMaxHalvings = 10;
 // (the libFuzzer world-inputs target found such a stall, fuzz/findings/).
 constexpr int kMaxAttemptsPerStep = 64;
 
-class Midpoint final : public TreeIntegrator {
- public:
-  explicit Midpoint(bool fourth_order) : fourth_order_(fourth_order) {}
-  const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
-  void reset() override {
-    cached_ = false;
-    start_at_last_ = false;
-    kin_at_state_ = false;
-  }
-  int lastIterations() const override { return iterations_; }
-  double lastDissipated() const override { return dissipated_; }
-  bool lastLimited() const override { return limited_; }
-  bool lastSolved() const override { return solved_; }
-  bool conservesMomentum() const override { return true; }
-  const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
+inline void Midpoint::step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+                           TreeState& state) {
+  iterations_ = 0;
+  attempts_ = 0;
+  dissipated_ = 0.0;
+  limited_ = false;
+  solved_ = true;
+  if (!fourth_order_) return robustSubstep(tree, loads, h, state, 0);
+  // Yoshida: h γ1, h γ2, h γ1 with γ1 = 1/(2 − 2^{1/3}), γ2 = 1 − 2 γ1.
+  const double g1 = 1.0 / (2.0 - std::cbrt(2.0)), g2 = 1.0 - 2.0 * g1;
+  robustSubstep(tree, loads, g1 * h, state, 0);
+  robustSubstep(tree, loads, g2 * h, state, 0);
+  robustSubstep(tree, loads, g1 * h, state, 0);
+}
 
-  void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
-            TreeState& state) override {
-    iterations_ = 0;
-    attempts_ = 0;
-    dissipated_ = 0.0;
-    limited_ = false;
-    solved_ = true;
-    if (!fourth_order_) return robustSubstep(tree, loads, h, state, 0);
-    // Yoshida: h γ1, h γ2, h γ1 with γ1 = 1/(2 − 2^{1/3}), γ2 = 1 − 2 γ1.
-    const double g1 = 1.0 / (2.0 - std::cbrt(2.0)), g2 = 1.0 - 2.0 * g1;
-    robustSubstep(tree, loads, g1 * h, state, 0);
-    robustSubstep(tree, loads, g2 * h, state, 0);
-    robustSubstep(tree, loads, g1 * h, state, 0);
-  }
-  int lastHalvings() const { return halvings_; }
+// M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
+// `at_end_pose`: a fixed base's M from the frames of residual_.endPose().
+inline void Midpoint::factorMass(const ArticulatedBody& tree, bool at_end_pose) {
+  if (at_end_pose)
+    residual_.massMatrix(M_);
+  else
+    massMatrix(tree, kin_, M_, work_);
+  if (!tree.hasMimic()) return llt_.compute(M_);
+  reduceMatrix(tree, M_, Mr_, work_);  // mimic joints: the step solves on ν_r
+  llt_.compute(Mr_);
+}
 
- private:
-  bool sameAsCached(const TreeState& s) const {
-    if (!cached_) return false;
-    const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
-    const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
-      return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
-    };
-    return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
-           equal3(s.omega_0.rot, last_.omega_0.rot) && equal3(s.omega_0.trans, last_.omega_0.trans);
+// M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
+// rows; M's own factor when no joint is damped.
+inline const tree_math::Cholesky& Midpoint::iterationMatrix(const ArticulatedBody& tree, double h) {
+  if (!damped(tree)) return llt_;
+  Md_ = M_;
+  for (int k = 0; k < tree.jointCount(); ++k)
+    Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
+  if (!tree.hasMimic()) {
+    llt_damped_.compute(Md_);
+  } else {
+    reduceMatrix(tree, Md_, Mdr_, work_);
+    llt_damped_.compute(Mdr_);
   }
-  // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
-  static bool finite(const Eigen::VectorXd& x) {
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (!std::isfinite(x[i])) return false;
-    return true;
-  }
-  // Equal sizes and entries (plain loops: Eigen's == costs a call per comparison here).
-  static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-    if (x.size() != y.size()) return false;
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (x[i] != y[i]) return false;
-    return true;
-  }
+  return llt_damped_;
+}
 
-  // M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
-  // `at_end_pose`: a fixed base's M from the frames of residual_.endPose().
-  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false) {
-    if (at_end_pose)
-      residual_.massMatrix(M_);
-    else
-      massMatrix(tree, kin_, M_, work_);
-    if (!tree.hasMimic()) return llt_.compute(M_);
-    reduceMatrix(tree, M_, Mr_, work_);  // mimic joints: the step solves on ν_r
-    llt_.compute(Mr_);
-  }
-  // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
-  bool damped(const ArticulatedBody& tree) {
-    if (&tree != damped_tree_) {
-      damped_tree_ = &tree;
-      damped_ = false;
-      for (const TreeJoint& j : tree.joints()) damped_ = damped_ || j.damping != 0.0;
+// A step the iteration cannot solve (it stops converging when h times the tree's fastest
+// rate nears 1: a whipping chain at a large dt) is done as two steps of h/2, recursively down
+// to h/2^kMaxHalvings and within kMaxAttemptsPerStep attempts (past either, the last attempt
+// stands). Two midpoint steps are again a symmetric, symplectic step, so the
+// method keeps its properties; only the cost grows.
+inline void Midpoint::robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+                                    TreeState& state, int depth) {
+  // One saved slot per depth, kept across steps: saving copies into vectors of the same
+  // size, so a step does not allocate once the slots exist.
+  if (static_cast<int>(saved_.size()) <= depth) saved_.resize(depth + 1);
+  Saved& saved = saved_[depth];
+  save(state, saved);
+  ++attempts_;
+  const bool solved = substep(tree, loads, h, state);
+  if (solved || depth >= kMaxHalvings || attempts_ >= kMaxAttemptsPerStep) {
+    solved_ = solved_ && solved;
+    if (!slots_sized_) {  // every slot sized once the first step has sized the members
+      saved_.resize(kMaxHalvings + 1);
+      for (Saved& slot : saved_) save(state, slot);
+      slots_sized_ = true;
     }
-    return damped_;
+    return;
   }
-  // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
-  // rows; M's own factor when no joint is damped.
-  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h) {
-    if (!damped(tree)) return llt_;
-    Md_ = M_;
-    for (int k = 0; k < tree.jointCount(); ++k)
-      Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
-    if (!tree.hasMimic()) {
-      llt_damped_.compute(Md_);
-    } else {
-      reduceMatrix(tree, Md_, Mdr_, work_);
-      llt_damped_.compute(Mdr_);
-    }
-    return llt_damped_;
-  }
+  restore(saved, state);
+  ++halvings_;
+  robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
+  robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
+}
 
-  // A step the iteration cannot solve (it stops converging when h times the tree's fastest
-  // rate nears 1: a whipping chain at a large dt) is done as two steps of h/2, recursively down
-  // to h/2^kMaxHalvings and within kMaxAttemptsPerStep attempts (past either, the last attempt
-  // stands). Two midpoint steps are again a symmetric, symplectic step, so the
-  // method keeps its properties; only the cost grows.
-  void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
-                     TreeState& state, int depth) {
-    // One saved slot per depth, kept across steps: saving copies into vectors of the same
-    // size, so a step does not allocate once the slots exist.
-    if (static_cast<int>(saved_.size()) <= depth) saved_.resize(depth + 1);
-    Saved& saved = saved_[depth];
-    save(state, saved);
-    ++attempts_;
-    const bool solved = substep(tree, loads, h, state);
-    if (solved || depth >= kMaxHalvings || attempts_ >= kMaxAttemptsPerStep) {
-      solved_ = solved_ && solved;
-      if (!slots_sized_) {  // every slot sized once the first step has sized the members
-        saved_.resize(kMaxHalvings + 1);
-        for (Saved& slot : saved_) save(state, slot);
-        slots_sized_ = true;
-      }
-      return;
-    }
-    restore(saved, state);
-    ++halvings_;
-    robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
-    robustSubstep(tree, loads, 0.5 * h, state, depth + 1);
-  }
+inline void Midpoint::save(const TreeState& s, Saved& v) const {
+  v.state = s;
+  v.T = T_;
+  v.p = p_;
+  v.Pi = Pi_;
+}
 
-  struct Saved {
-    TreeState state;  // (last_, cached_ and last_h_ change only when a substep succeeds)
-    double T;
-    Eigen::VectorXd p;
-    cga::Moment Pi;
-  };
-  void save(const TreeState& s, Saved& v) const {
-    v.state = s;
-    v.T = T_;
-    v.p = p_;
-    v.Pi = Pi_;
-  }
-  void restore(const Saved& v, TreeState& s) {
-    s = v.state;
-    T_ = v.T;
-    mass_at_last_ = false;   // M_ may belong to the failed attempt
-    start_at_last_ = false;  // and so may the residual's start
-    // The history of ν̄ restarts: the halves have another h, so that the next step is not
-    // extrapolated (guess_ and differences_ need no saving).
-    history_filled_ = 0;
-    contraction_ = 0.0;
-    p_ = v.p;
-    Pi_ = v.Pi;
-  }
+inline void Midpoint::restore(const Saved& v, TreeState& s) {
+  s = v.state;
+  T_ = v.T;
+  mass_at_last_ = false;   // M_ may belong to the failed attempt
+  start_at_last_ = false;  // and so may the residual's start
+  // The history of ν̄ restarts: the halves have another h, so that the next step is not
+  // extrapolated (guess_ and differences_ need no saving).
+  history_filled_ = 0;
+  contraction_ = 0.0;
+  p_ = v.p;
+  Pi_ = v.Pi;
+}
 
-  // One midpoint step; false when the iteration did not converge (or left finite numbers).
-  bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state) {
-    const int n = tree.jointCount(), nv = tree.reducedCount();  // nv: the space the step solves in
-    const int nj = nv - (tree.floating() ? 6 : 0);  // its joint coordinates (n without mimic)
-    const bool mimic = tree.hasMimic();
-    const double lambda = tree.lambda();
-    kin_at_state_ = false;
-    const bool fresh = sameAsCached(state);
-    if (!fresh) {  // momenta of a state set from outside
-      treeKinematics(tree, state, kin_);
-      T_ = kineticEnergy(tree, kin_);
-      momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
-      f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
-      mid_ = state;
-      differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
-      if (mimic) {
-        p_.resize(nj);
-        reduceJointForce(tree, pm_.tail(n), p_);
-      } else {
-        p_ = pm_.tail(n);
-      }
-      if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
-    }
-    // Start from the extrapolated midpoint velocity when the last step had the same h, else from
-    // ν. The iteration matrix is M + ½hC at the step's start: the previous step factored M
-    // there for its velocities, so a run of steps factors M once per step (and needs no more
-    // iterations than a fresh matrix at the predicted midpoint: doc/decisions.md).
-    const bool extrapolated = fresh && h == last_h_;
-    if (!extrapolated) contraction_ = 0.0;  // measured anew in this run of steps
-    if (extrapolated) {
-      nu_bar_ = guess_;  // (not a conditional expression: that would copy into a temporary)
-    } else if (!mimic) {
-      nu_bar_.resize(nv);
-      if (tree.floating()) nu_bar_.head<6>() = tree_math::vec(state.omega_0);
-      nu_bar_.tail(n) = state.v;
-    } else {
-      reduceVelocity(tree, velocityVector(tree, state), nu_bar_);
-    }
-    if (!fresh || !mass_at_last_) {
-      treeKinematics(tree, state, kin_);
-      factorMass(tree);
-    }
-    const tree_math::Cholesky& A = iterationMatrix(tree, h);
-    y_.setZero(nv);
-    r_.resize(nv);
-    cga::Moment W;
-    double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
-    // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
-    // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
-    // A fixed base under gravity alone (the common case) takes the fused passes of
-    // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
-    const bool fused = MidpointResidual::applies(tree, loads);
-    if (!fused) mid_ = state;  // the general path's midpoint state
-    double load_power = 0.0;   // of the external moments at the midpoint
-    // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
-    // which leaves the sines and cosines of the next step's start behind.
-    const bool fixed = !tree.floating();
-    if (fixed) residual_.prepare(tree);
-    if (fused && !(fresh && start_at_last_)) residual_.startAt(state.q);
-    start_at_last_ = false;
-    for (int it = 0; it < kMaxIterations; ++it) {
-      ++iterations_;
-      // The midpoint rates of every joint (with mimic joints, expanded from ν̄_r).
-      if (mimic) expandVelocity(tree, nu_bar_, nu_full_);
-      const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
-      if (fused) {
-        residual_.evaluate(state.q, loads.gravity_W, h, nu_all, pm_, grad_);
-      } else {
-        mid_.q = state.q + (0.5 * h) * nu_all.tail(n);
-        setVelocityVector(tree, nu_all, mid_);
-        if (tree.floating())
-          mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_all.head<6>()) * (-0.25 * h));
-        treeKinematics(tree, mid_, kin_);
-        externalMoments(tree, kin_, loads, f_ext_);
-        momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_, work_);
-      }
-      if (!mimic) {
-        r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
-      } else {  // Gᵀ of the joints' residual, plus the reduced momenta
-        joint_r_ = (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
-        if (damped(tree))
-          for (int k = 0; k < n; ++k)
-            joint_r_[k] -= 0.5 * h * tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
-        reduceJointForce(tree, joint_r_, r_.tail(nj));
-        r_.tail(nj) += p_;
-      }
-      if (damped(tree) && !mimic)
-        for (int k = 0; k < n; ++k)
-          r_[tree.velocityIndex(k)] -=
-              0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
-      if (tree.floating()) {
-        W = cga::Moment();
-        for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
-        r_.head<6>() =
-            tree_math::vec(mid_.M_W0.reverse().apply(Pi_ + W * (0.5 * h), lambda)) - pm_.head<6>();
-      }
-      // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
-      // rows then add the impulses anew.
-      nu_new_ = r_;
-      A.solveInPlace(nu_new_);
-      nu_new_ += nu_bar_;
-      rows_.solve(tree, A, state.q, h, nu_new_);
-      rows_.impulses(y_);
-      const double change = nv == 0 ? 0.0 : (nu_new_ - nu_bar_).cwiseAbs().maxCoeff();
-      const double scale = 1.0 + (nv == 0 ? 0.0 : nu_new_.cwiseAbs().maxCoeff());
-      nu_bar_.swap(nu_new_);
-      // The error left in ν̄: the next correction, estimated from the ratio of the last two.
-      final_change = it > 0 ? std::min(change, change * (change / last_change)) : change;
-      final_scale = scale;
-      // Linear convergence with ratio change/last_change: stop when the next correction would
-      // be below the tolerance, or when the corrections stop shrinking (round-off). The ratio
-      // is kept while a correction is well above round-off (below, its noise would spoil it).
-      if (change <= kTolerance * scale) break;
-      if (it > 0 && change > kRatioFloor * scale) contraction_ = change / last_change;
-      if (it > 0 && change * (change / last_change) <= kTolerance * scale) break;
-      // After the first pass of a run of equal steps, the ratio of the steps before predicts
-      // the next correction (the iteration's matrix and its error change by O(h) from step to
-      // step): twice it times this correction below the tolerance, and no joint row acting
-      // (their impulses move with ν̄), and the step has converged with one residual pass.
-      if (it == 0 && extrapolated && contraction_ > 0.0 &&
-          change * (kRatioMargin * contraction_) <= kTolerance * scale && y_.isZero(0.0)) {
-        final_change = change * (kRatioMargin * contraction_);
-        break;
-      }
-      if (it > 2 && change >= last_change) break;
-      last_change = change;
-    }
-    if (!(final_change <= kConverged * final_scale) || !finite(nu_bar_)) return false;
-    if (mimic) expandVelocity(tree, nu_bar_, nu_full_);  // the converged ν̄ on every joint
-    const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
-    // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
-    // the energy check.
-    if (fused) load_power = residual_.gravityPower();
-    if (!fused)
-      for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
-        load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
-    const double power = load_power + loads.effort.dot(nu_all.tail(n));
-    const double T_start = T_;
-    // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
-    grad_ += loads.effort;
-    if (damped(tree))
-      for (int k = 0; k < n; ++k)
-        grad_[k] -= tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
-    if (!mimic) {
-      p_ += h * grad_ + 2.0 * y_.tail(n);
-    } else {
-      grad_r_.resize(nj);
-      reduceJointForce(tree, grad_, grad_r_);
-      p_ += h * grad_r_ + 2.0 * y_.tail(nj);
-    }
-    state.q += h * nu_all.tail(n);
-    rows_.clampPositions(tree, state.q);
-    if (tree.floating()) {
-      Pi_ += W * h;
-      state.M_W0 =
-          (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
-    }
-    // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
-    if (fixed)
-      residual_.endPose(state.q, kin_);
-    else
-      treePoses(tree, state, kin_);
-    factorMass(tree, fixed);
-    mass_at_last_ = false;  // until this step is accepted
-    rhs_.resize(nv);
-    rhs_.tail(nj) = p_;
-    if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
-    nu_end_ = rhs_;
-    llt_.solveInPlace(nu_end_);
-    // A converged iteration can still have found a spurious root of the midpoint equations when
-    // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
-    // than the loads' work. Such a step is refused and halved. A true step changes T by
-    // h·power up to its O((hω)²) error: 5 % of the kinetic energy plus half the work bound
-    // that generously (the work term covers a start from rest, where T itself is O(h²)).
-    T_ = 0.5 * nu_end_.dot(rhs_);  // ½ νᵀ M ν with M ν = rhs
-    const double growth = T_ - T_start - h * power;
-    if (growth > 0.05 * (T_ + T_start) + 0.5 * std::abs(h * power) + 1e-12) return false;
-    // What the joints took over the substep: the momentum balance's non-conservative terms,
-    // damping −h C q̄̇ and friction's impulses 2y, paired with ν̄ (doc/articulated.md#energy).
-    // A limit's stop is booked by the World from the energies before and after the step.
-    const bool limited = rows_.limitActed();
-    double taken = limited ? 0.0 : -2.0 * y_.dot(nu_bar_);
-    if (damped(tree))
-      for (int k = 0; k < n; ++k) {
-        const double v = nu_bar_[tree.velocityIndex(k)];
-        taken += h * tree.joints()[k].damping * v * v;
-      }
-    // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md):
-    // the kinetic energy that stop takes is taken too.
-    if (rows_.stopHeld(tree, llt_, nu_end_)) {
-      Mnu_.noalias() = (mimic ? Mr_ : M_) * nu_end_;
-      p_ = Mnu_.tail(nj);
-      const double T_stopped = 0.5 * nu_end_.dot(Mnu_);
-      taken += T_ - T_stopped;
-      T_ = T_stopped;
-    }
-    if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
-    predictNext(nv);
-    if (mimic) {
-      expandVelocity(tree, nu_end_, nu_full_);
-      setVelocityVector(tree, nu_full_, state);
-    } else {
-      setVelocityVector(tree, nu_end_, state);
-    }
-    // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
-    if (fixed)
-      residual_.velocities(state.v, kin_);
-    else
-      treeVelocities(tree, state, kin_);
-    if (!finite(state.q) || !finite(state.v) || !state.M_W0.allFinite() ||
-        !state.omega_0.allFinite())
-      return false;
-    kin_at_state_ = true;
-    dissipated_ += taken;
-    limited_ = limited_ || limited;
-    last_ = state;
-    last_h_ = h;
-    cached_ = true;
-    mass_at_last_ = true;
-    start_at_last_ = fixed;
-    return true;
-  }
-
-  // The next step's ν̄ extrapolated from the sequence of ν̄ (a smooth sequence: ν̄ differs from
-  // ν(t + h/2) by a smooth O(h²)) over the run of steps with the same h: by the polynomial of
-  // degree d through the last d + 1 values, in Newton's backward form ν̄_{k+1} ≈ Σ_{j=0..d} ∇^j ν̄_k
-  // (∇ the backward difference), whose error is ∇^{d+1} ν̄_{k+1}, O(h^{d+1}). The degree is the
-  // one whose prediction of this step's ν̄ would have been the closest (|∇^{d+1} ν̄_k|∞, smallest
-  // over d = 1 … kMaxDegree): high while the motion is smooth on the scale of h (7-link arm at
-  // h = 1 ms: the cubic misses by 3e-8, the quartic by 2e-10, which spares one of three residual
-  // passes), low when h is coarse against the motion, where high-degree extrapolation amplifies
-  // instead of cancelling. Only the start of the iteration depends on it: the step converges to
-  // the same root (to round-off) from either. The differences are updated in place,
-  // ∇^j ν̄_k = ∇^{j−1} ν̄_k − ∇^{j−1} ν̄_{k−1}: kDifferences subtractions per coordinate.
-  void predictNext(int nv) {
-    const int m = history_filled_ = std::min(history_filled_ + 1, kDifferences);
+// One midpoint step; false when the iteration did not converge (or left finite numbers).
+inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+                              TreeState& state) {
+  const int n = tree.jointCount(), nv = tree.reducedCount();  // nv: the space the step solves in
+  const int nj = nv - (tree.floating() ? 6 : 0);  // its joint coordinates (n without mimic)
+  const bool mimic = tree.hasMimic();
+  const double lambda = tree.lambda();
+  kin_at_state_ = false;
+  const bool fresh = sameAsCached(state);
+  if (!fresh) {  // momenta of a state set from outside
+    treeKinematics(tree, state, kin_);
+    T_ = kineticEnergy(tree, kin_);
+    momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
+    f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
+    mid_ = state;
     differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
-    double err[kDifferences] = {};  // err[j] = |∇^j ν̄_k|∞, j < m
-    if (m == kDifferences)
-      updateDifferences<kDifferences>(nv, err);  // a long run: the loops unrolled
-    else
-      updateDifferences<0>(nv, err, m);
-    if (m < 3) {  // from ν(t + h) and ν̄: ν̄_{k+1} ≈ 2ν(t + h) − ν̄_k
-      guess_ = 2.0 * nu_end_ - nu_bar_;
-      return;
+    if (mimic) {
+      p_.resize(nj);
+      reduceJointForce(tree, pm_.tail(n), p_);
+    } else {
+      p_ = pm_.tail(n);
     }
-    int degree = 1;
-    for (int d = 2; d + 1 < m && d <= kMaxDegree; ++d)
-      if (err[d + 1] < err[degree + 1]) degree = d;
-    guess_.resize(nv);
-    for (int i = 0; i < nv; ++i) {
-      const double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
-      double x = d[0];
-      for (int j = 1; j <= degree; ++j) x += d[j];
-      guess_[i] = x;
+    if (tree.floating()) Pi_ = state.M_W0.apply(tree_math::moment(pm_.head<6>()), lambda);
+  }
+  // Start from the extrapolated midpoint velocity when the last step had the same h, else from
+  // ν. The iteration matrix is M + ½hC at the step's start: the previous step factored M
+  // there for its velocities, so a run of steps factors M once per step (and needs no more
+  // iterations than a fresh matrix at the predicted midpoint: doc/decisions.md).
+  const bool extrapolated = fresh && h == last_h_;
+  if (!extrapolated) contraction_ = 0.0;  // measured anew in this run of steps
+  if (extrapolated) {
+    nu_bar_ = guess_;  // (not a conditional expression: that would copy into a temporary)
+  } else if (!mimic) {
+    nu_bar_.resize(nv);
+    if (tree.floating()) nu_bar_.head<6>() = tree_math::vec(state.omega_0);
+    nu_bar_.tail(n) = state.v;
+  } else {
+    reduceVelocity(tree, velocityVector(tree, state), nu_bar_);
+  }
+  if (!fresh || !mass_at_last_) {
+    treeKinematics(tree, state, kin_);
+    factorMass(tree);
+  }
+  const tree_math::Cholesky& A = iterationMatrix(tree, h);
+  y_.setZero(nv);
+  r_.resize(nv);
+  cga::Moment W;
+  double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
+  // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
+  // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
+  // A fixed base under gravity alone (the common case) takes the fused passes of
+  // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
+  const bool fused = MidpointResidual::applies(tree, loads);
+  if (!fused) mid_ = state;  // the general path's midpoint state
+  double load_power = 0.0;   // of the external moments at the midpoint
+  // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
+  // which leaves the sines and cosines of the next step's start behind.
+  const bool fixed = !tree.floating();
+  if (fixed) residual_.prepare(tree);
+  if (fused && !(fresh && start_at_last_)) residual_.startAt(state.q);
+  start_at_last_ = false;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    ++iterations_;
+    // The midpoint rates of every joint (with mimic joints, expanded from ν̄_r).
+    if (mimic) expandVelocity(tree, nu_bar_, nu_full_);
+    const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
+    if (fused) {
+      residual_.evaluate(state.q, loads.gravity_W, h, nu_all, pm_, grad_);
+    } else {
+      mid_.q = state.q + (0.5 * h) * nu_all.tail(n);
+      setVelocityVector(tree, nu_all, mid_);
+      if (tree.floating())
+        mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_all.head<6>()) * (-0.25 * h));
+      treeKinematics(tree, mid_, kin_);
+      externalMoments(tree, kin_, loads, f_ext_);
+      momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_, work_);
     }
-  }
-  // ∇^j ν̄ for j < m (M: m as a constant, or 0 for the run-time `m`), their norms into err.
-  template <int M>
-  void updateDifferences(int nv, double* err, int m = M) {
-    if (M != 0) m = M;
-    for (int i = 0; i < nv; ++i) {
-      double* d = differences_.data() + static_cast<std::ptrdiff_t>(i) * kDifferences;
-      double old = d[0];  // ∇^{j−1} ν̄_{k−1}
-      d[0] = nu_bar_[i];
-#pragma GCC unroll 16
-      for (int j = 1; j < m; ++j) {
-        const double next_old = d[j];
-        d[j] = d[j - 1] - old;
-        old = next_old;
-        err[j] = std::max(err[j], std::abs(d[j]));
-      }
+    if (!mimic) {
+      r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+    } else {  // Gᵀ of the joints' residual, plus the reduced momenta
+      joint_r_ = (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+      if (damped(tree))
+        for (int k = 0; k < n; ++k)
+          joint_r_[k] -= 0.5 * h * tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
+      reduceJointForce(tree, joint_r_, r_.tail(nj));
+      r_.tail(nj) += p_;
     }
+    if (damped(tree) && !mimic)
+      for (int k = 0; k < n; ++k)
+        r_[tree.velocityIndex(k)] -=
+            0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
+    if (tree.floating()) {
+      W = cga::Moment();
+      for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
+      r_.head<6>() =
+          tree_math::vec(mid_.M_W0.reverse().apply(Pi_ + W * (0.5 * h), lambda)) - pm_.head<6>();
+    }
+    // ν̄ + A r is the unconstrained solution (ν̄ holds the last impulses, r does not); the
+    // rows then add the impulses anew.
+    nu_new_ = r_;
+    A.solveInPlace(nu_new_);
+    nu_new_ += nu_bar_;
+    rows_.solve(tree, A, state.q, h, nu_new_);
+    rows_.impulses(y_);
+    const double change = nv == 0 ? 0.0 : (nu_new_ - nu_bar_).cwiseAbs().maxCoeff();
+    const double scale = 1.0 + (nv == 0 ? 0.0 : nu_new_.cwiseAbs().maxCoeff());
+    nu_bar_.swap(nu_new_);
+    // The error left in ν̄: the next correction, estimated from the ratio of the last two.
+    final_change = it > 0 ? std::min(change, change * (change / last_change)) : change;
+    final_scale = scale;
+    // Linear convergence with ratio change/last_change: stop when the next correction would
+    // be below the tolerance, or when the corrections stop shrinking (round-off). The ratio
+    // is kept while a correction is well above round-off (below, its noise would spoil it).
+    if (change <= kTolerance * scale) break;
+    if (it > 0 && change > kRatioFloor * scale) contraction_ = change / last_change;
+    if (it > 0 && change * (change / last_change) <= kTolerance * scale) break;
+    // After the first pass of a run of equal steps, the ratio of the steps before predicts
+    // the next correction (the iteration's matrix and its error change by O(h) from step to
+    // step): twice it times this correction below the tolerance, and no joint row acting
+    // (their impulses move with ν̄), and the step has converged with one residual pass.
+    if (it == 0 && extrapolated && contraction_ > 0.0 &&
+        change * (kRatioMargin * contraction_) <= kTolerance * scale && y_.isZero(0.0)) {
+      final_change = change * (kRatioMargin * contraction_);
+      break;
+    }
+    if (it > 2 && change >= last_change) break;
+    last_change = change;
   }
-
-  const BodyMoments& zero_moments(const ArticulatedBody& tree) {
-    zeros_.assign(tree.bodyCount(), cga::Moment());
-    return zeros_;
+  if (!(final_change <= kConverged * final_scale) || !finite(nu_bar_)) return false;
+  if (mimic) expandVelocity(tree, nu_bar_, nu_full_);  // the converged ν̄ on every joint
+  const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
+  // The power of the loads and efforts at the midpoint (the general path's kin_ holds it), for
+  // the energy check.
+  if (fused) load_power = residual_.gravityPower();
+  if (!fused)
+    for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+      load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
+  const double power = load_power + loads.effort.dot(nu_all.tail(n));
+  const double T_start = T_;
+  // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
+  grad_ += loads.effort;
+  if (damped(tree))
+    for (int k = 0; k < n; ++k)
+      grad_[k] -= tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
+  if (!mimic) {
+    p_ += h * grad_ + 2.0 * y_.tail(n);
+  } else {
+    grad_r_.resize(nj);
+    reduceJointForce(tree, grad_, grad_r_);
+    p_ += h * grad_r_ + 2.0 * y_.tail(nj);
   }
-
-  bool fourth_order_;
-  bool cached_ = false;
-  TreeState last_;
-  double last_h_ = 0.0;
-  int iterations_ = 0;
-  double dissipated_ = 0.0;  ///< what the joints took in the step (lastDissipated)
-  bool solved_ = true;       ///< every substep of the step converged (lastSolved)
-  bool limited_ = false;     ///< a limit acted in the step (lastLimited)
-  int halvings_ = 0;
-  int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
-  std::vector<Saved> saved_;
-  bool slots_sized_ = false;
-  double T_ = 0.0;  // kinetic energy of the state the integrator produced
-  const ArticulatedBody* damped_tree_ = nullptr;
-  bool damped_ = false;
-  bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
-  bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
-  bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
-  static constexpr int kMaxDegree = 7;
-  static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
-  // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)
-  std::vector<double> differences_;
-  int history_filled_ = 0;  // values of ν̄ in the current run of equal steps, ≤ kDifferences
-  // The ratio of the iteration's last two corrections measured above round-off in the current
-  // run of equal steps (0: none yet).
-  double contraction_ = 0.0;
-  Eigen::VectorXd Mnu_, p_, guess_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_, rhs_;
-  // Mimic joints: ν̄ and ν on every joint, the joints' residual or force before Gᵀ, and the
-  // reduced M and M + ½hC (M_ and Md_ stay on every joint).
-  Eigen::VectorXd nu_full_, joint_r_, grad_r_;
-  Eigen::MatrixXd Mr_, Mdr_;
-  cga::Moment Pi_;
-  TreeState mid_;
-  TreeKinematics kin_;
-  TreeWorkspace work_;  // the tree algorithms' work arrays
-  BodyMoments f_ext_, zeros_;
-  Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
-  tree_math::Cholesky llt_, llt_damped_;
-  JointRows rows_;
-  MidpointResidual residual_;
-};
+  state.q += h * nu_all.tail(n);
+  rows_.clampPositions(tree, state.q);
+  if (tree.floating()) {
+    Pi_ += W * h;
+    state.M_W0 =
+        (state.M_W0 * cga::exp(tree_math::bivector(nu_bar_.head<6>()) * (-0.5 * h))).normalized();
+  }
+  // Velocities at the new pose: M(q) ν = (M_W0⁻¹ Π, p).
+  if (fixed)
+    residual_.endPose(state.q, kin_);
+  else
+    treePoses(tree, state, kin_);
+  factorMass(tree, fixed);
+  mass_at_last_ = false;  // until this step is accepted
+  rhs_.resize(nv);
+  rhs_.tail(nj) = p_;
+  if (tree.floating()) rhs_.head<6>() = tree_math::vec(state.M_W0.reverse().apply(Pi_, lambda));
+  nu_end_ = rhs_;
+  llt_.solveInPlace(nu_end_);
+  // A converged iteration can still have found a spurious root of the midpoint equations when
+  // h is large against the motion (a whipping chain): its kinetic energy jumps by far more
+  // than the loads' work. Such a step is refused and halved. A true step changes T by
+  // h·power up to its O((hω)²) error: 5 % of the kinetic energy plus half the work bound
+  // that generously (the work term covers a start from rest, where T itself is O(h²)).
+  T_ = 0.5 * nu_end_.dot(rhs_);  // ½ νᵀ M ν with M ν = rhs
+  const double growth = T_ - T_start - h * power;
+  if (growth > 0.05 * (T_ + T_start) + 0.5 * std::abs(h * power) + 1e-12) return false;
+  // What the joints took over the substep: the momentum balance's non-conservative terms,
+  // damping −h C q̄̇ and friction's impulses 2y, paired with ν̄ (doc/articulated.md#energy).
+  // A limit's stop is booked by the World from the energies before and after the step.
+  const bool limited = rows_.limitActed();
+  double taken = limited ? 0.0 : -2.0 * y_.dot(nu_bar_);
+  if (damped(tree))
+    for (int k = 0; k < n; ++k) {
+      const double v = nu_bar_[tree.velocityIndex(k)];
+      taken += h * tree.joints()[k].damping * v * v;
+    }
+  // Joints held by a limit or by friction end the step at rest (inelastic, doc/articulated.md):
+  // the kinetic energy that stop takes is taken too.
+  if (rows_.stopHeld(tree, llt_, nu_end_)) {
+    Mnu_.noalias() = (mimic ? Mr_ : M_) * nu_end_;
+    p_ = Mnu_.tail(nj);
+    const double T_stopped = 0.5 * nu_end_.dot(Mnu_);
+    taken += T_ - T_stopped;
+    T_ = T_stopped;
+  }
+  if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
+  predictNext(nv);
+  if (mimic) {
+    expandVelocity(tree, nu_end_, nu_full_);
+    setVelocityVector(tree, nu_full_, state);
+  } else {
+    setVelocityVector(tree, nu_end_, state);
+  }
+  // kin_ holds the new poses: with the new velocities it is the kinematics of the new state.
+  if (fixed)
+    residual_.velocities(state.v, kin_);
+  else
+    treeVelocities(tree, state, kin_);
+  if (!finite(state.q) || !finite(state.v) || !state.M_W0.allFinite() || !state.omega_0.allFinite())
+    return false;
+  kin_at_state_ = true;
+  dissipated_ += taken;
+  limited_ = limited_ || limited;
+  last_ = state;
+  last_h_ = h;
+  cached_ = true;
+  mass_at_last_ = true;
+  start_at_last_ = fixed;
+  return true;
+}
 
 }  // namespace
 

@@ -1,7 +1,10 @@
 // MidpointResidual: the residual of the variational midpoint's equations (tree_integrator_
 // midpoint.cc) in one outward and one inward pass, for the common case of a fixed-base tree
 // under gravity and joint efforts alone (no loads applied to its links); on the same constants
-// also the explicit integrators' stage for that case (accelerations()). Internal.
+// also the explicit integrators' stage for that case (accelerations()). Internal. Defined in
+// tree_integrator_residual.cc (the residual passes), tree_residual_pose.cc (the tree's constants,
+// the end pose and its velocities) and tree_residual_dynamics.cc (the mass matrix and the
+// explicit stage), with the joint frames of tree_residual_frames.h.
 //
 // At the midpoint q̄ = q + ½h q̄̇ with rates q̄̇ it yields what treeKinematics, gravityMoments and
 // momentumAndGradient together yield there — the joint momenta p = M(q̄) q̄̇ and the gradient
@@ -47,7 +50,7 @@ class MidpointResidual {
   void endPose(const Eigen::VectorXd& q, TreeKinematics& kin);
   /// The mass matrix M(q) at the positions of the last endPose() (or accelerations()):
   /// massMatrix() (CRBA on composite inertias) to round-off, on the frames endPose() kept, with
-  /// composites and screws in one frame per subtree of the base (the .cc).
+  /// composites and screws in one frame per subtree of the base (tree_residual_dynamics.cc).
   void massMatrix(Eigen::MatrixXd& M);
   /// The bivelocities kin.omega at the pose of the last endPose() and joint rates v:
   /// treeVelocities() to round-off.

@@ -107,7 +107,7 @@ struct FreeFlowCache {
   // Elliptic and separatrix: L_a = ρ B_a cn τ, L_b = ρ σ B_b sn τ, L_c = σ B_c dn τ over the
   // principal axes (a, b, c), b = 2, c the axis the polhode circles; τ = ω_p t + τ0 is the
   // elliptic phase, kept reduced to [−K, K] (ρ = ±1 tracks the half periods dropped). The angle
-  // about L is ψ(t) = rate t + (half periods) dpsi_half + g(τ) (see free_flow.cc).
+  // about L is ψ(t) = rate t + (half periods) dpsi_half + g(τ) (see free_flow_phase.h).
   Eigen::Vector3d inv_J = Eigen::Vector3d::Zero();  ///< 1/J_i: w = L_B/J each step
   double sigma = 1, rho = 1;
   double Ba = 0, Bb = 0, Bc = 0;

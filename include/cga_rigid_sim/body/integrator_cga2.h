@@ -21,10 +21,8 @@
 // 1/J1 − 1/J2 and 1/J2 − 1/J3 are the body's departures from a sphere: a symmetric body (J1 = J2
 // or J2 = J3) is integrated exactly, and a nearly symmetric one nearly so. (Fassò 2003, "Comparison
 // of splitting algorithms for the rigid body", J. Comput. Phys. 189, compares such second-order
-// splittings by their energy error.) Before this split, cga2 split the energy into its three axis
-// parts (R1 R2 R3 R2 R1, the splitting of Touma & Wisdom 1994 and Dullweber, Leimkuhler &
-// McLachlan 1997, J. Chem. Phys. 107, 5840), with two more axis turns a step and an error 4×
-// larger on the tennis racket (doc/benchmarks.md). Because the rotational parts keep v_W fixed, the
+// splittings by their energy error; the three-axis split it replaced: doc/decisions.md, "the split
+// about the middle moment".) Because the rotational parts keep v_W fixed, the
 // two drifts merge into one body translation by h v_B at the start of F (M T_B(a) R T_B(R̃ a R) = M
 // T_B(2a) R): the drifts add up to h v_W exactly.
 //

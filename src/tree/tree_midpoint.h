@@ -1,0 +1,149 @@
+// The variational midpoint for trees (`cga2`, `auto`) and its triple-jump composition (`cga4`):
+// the integrator's class, its state between steps and its scratch. Internal: included by
+// tree_integrator_midpoint.cc (the scheme, the step and its halving) and tree_midpoint_guess.h
+// (the iteration's starting guess), which make one translation unit, so that the step's parts
+// stay local and inline into one another as one file's would (its members defined out of the
+// class are marked inline, as those defined in it are).
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <vector>
+
+#include "cga_rigid_sim/tree/tree_integrator.h"
+#include "tree/joint_rows.h"
+#include "tree/tree_integrator_residual.h"
+#include "tree/tree_math.h"
+
+namespace cga_rigid_sim {
+namespace dynamics {
+namespace {
+
+class Midpoint final : public TreeIntegrator {
+ public:
+  explicit Midpoint(bool fourth_order) : fourth_order_(fourth_order) {}
+  const char* name() const override { return fourth_order_ ? "cga4" : "cga2"; }
+  void reset() override {
+    cached_ = false;
+    start_at_last_ = false;
+    kin_at_state_ = false;
+  }
+  int lastIterations() const override { return iterations_; }
+  double lastDissipated() const override { return dissipated_; }
+  bool lastLimited() const override { return limited_; }
+  bool lastSolved() const override { return solved_; }
+  bool conservesMomentum() const override { return true; }
+  const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
+
+  void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+            TreeState& state) override;
+  int lastHalvings() const { return halvings_; }
+
+ private:
+  bool sameAsCached(const TreeState& s) const {
+    if (!cached_) return false;
+    const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
+    const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+      return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+    };
+    return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
+           equal3(s.omega_0.rot, last_.omega_0.rot) && equal3(s.omega_0.trans, last_.omega_0.trans);
+  }
+  // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
+  static bool finite(const Eigen::VectorXd& x) {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i])) return false;
+    return true;
+  }
+  // Equal sizes and entries (plain loops: Eigen's == costs a call per comparison here).
+  static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    if (x.size() != y.size()) return false;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (x[i] != y[i]) return false;
+    return true;
+  }
+
+  // M at the pose of `kin_` or at a fixed base's end pose, factored.
+  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false);
+  // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
+  bool damped(const ArticulatedBody& tree) {
+    if (&tree != damped_tree_) {
+      damped_tree_ = &tree;
+      damped_ = false;
+      for (const TreeJoint& j : tree.joints()) damped_ = damped_ || j.damping != 0.0;
+    }
+    return damped_;
+  }
+  // M + ½hC, the iteration's matrix, factored.
+  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h);
+
+  // A substep of h, halved while the iteration cannot solve it.
+  void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
+                     TreeState& state, int depth);
+  struct Saved {
+    TreeState state;  // (last_, cached_ and last_h_ change only when a substep succeeds)
+    double T;
+    Eigen::VectorXd p;
+    cga::Moment Pi;
+  };
+  void save(const TreeState& s, Saved& v) const;
+  void restore(const Saved& v, TreeState& s);
+
+  // One midpoint step; false when the iteration did not converge.
+  bool substep(const ArticulatedBody& tree, const TreeLoads& loads, double h, TreeState& state);
+
+  // The next step's starting ν̄, guess_ (tree_midpoint_guess.h).
+  void predictNext(int nv);
+  template <int M>
+  void updateDifferences(int nv, double* err, int m = M);
+
+  const BodyMoments& zero_moments(const ArticulatedBody& tree) {
+    zeros_.assign(tree.bodyCount(), cga::Moment());
+    return zeros_;
+  }
+
+  bool fourth_order_;
+  bool cached_ = false;
+  TreeState last_;
+  double last_h_ = 0.0;
+  int iterations_ = 0;
+  double dissipated_ = 0.0;  ///< what the joints took in the step (lastDissipated)
+  bool solved_ = true;       ///< every substep of the step converged (lastSolved)
+  bool limited_ = false;     ///< a limit acted in the step (lastLimited)
+  int halvings_ = 0;
+  int attempts_ = 0;  ///< substep attempts in this step (kMaxAttemptsPerStep)
+  std::vector<Saved> saved_;
+  bool slots_sized_ = false;
+  double T_ = 0.0;  // kinetic energy of the state the integrator produced
+  const ArticulatedBody* damped_tree_ = nullptr;
+  bool damped_ = false;
+  bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
+  bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
+  bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
+  static constexpr int kMaxDegree = 7;
+  static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
+  // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)
+  std::vector<double> differences_;
+  int history_filled_ = 0;  // values of ν̄ in the current run of equal steps, ≤ kDifferences
+  // The ratio of the iteration's last two corrections measured above round-off in the current
+  // run of equal steps (0: none yet).
+  double contraction_ = 0.0;
+  Eigen::VectorXd Mnu_, p_, guess_, pm_, grad_, r_, y_, nu_bar_, nu_new_, nu_end_, rhs_;
+  // Mimic joints: ν̄ and ν on every joint, the joints' residual or force before Gᵀ, and the
+  // reduced M and M + ½hC (M_ and Md_ stay on every joint).
+  Eigen::VectorXd nu_full_, joint_r_, grad_r_;
+  Eigen::MatrixXd Mr_, Mdr_;
+  cga::Moment Pi_;
+  TreeState mid_;
+  TreeKinematics kin_;
+  TreeWorkspace work_;  // the tree algorithms' work arrays
+  BodyMoments f_ext_, zeros_;
+  Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
+  tree_math::Cholesky llt_, llt_damped_;
+  JointRows rows_;
+  MidpointResidual residual_;
+};
+
+}  // namespace
+}  // namespace dynamics
+}  // namespace cga_rigid_sim
