@@ -15,10 +15,15 @@ std::string frameOrWorld(const std::string& frame_id, const std::string& world_f
   return frame_id.empty() ? world_frame : frame_id;
 }
 
-}  // namespace
+// What a CgaWrench and a CgaImpulse both carry, each number checked finite in the order of the
+// message's fields: F = f + αn at `point`, and the couple (the message's torque).
+struct CgaLoad {
+  cga::Force F;
+  Eigen::Vector3d point, couple;
+};
 
-Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
-                                       const std::string& world_frame, const std::string& topic) {
+template <class CgaMsg>
+Result<CgaLoad> toCgaLoad(const CgaMsg& msg, const std::string& topic) {
   auto f = toFiniteEigen(msg.f, topic + ".f");
   if (!f) return Error{f.error()};
   if (!std::isfinite(msg.alpha)) return notFinite(topic + ".alpha");
@@ -26,14 +31,23 @@ Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
   if (!point) return Error{point.error()};
   auto torque = toFiniteEigen(msg.torque, topic + ".torque");
   if (!torque) return Error{torque.error()};
+  return CgaLoad{cga::Force(*f, msg.alpha), *point, *torque};
+}
+
+}  // namespace
+
+Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
+                                       const std::string& world_frame, const std::string& topic) {
+  auto load = toCgaLoad(msg, topic);
+  if (!load) return Error{load.error()};
   if (!std::isfinite(msg.duration)) return notFinite(topic + ".duration");
 
   sim::WrenchInput in;
   in.body = msg.body;
   in.frame = frameOrWorld(msg.header.frame_id, world_frame);
-  in.F = cga::Force(*f, msg.alpha);
-  in.point = *point;
-  in.couple = *torque;
+  in.F = load->F;
+  in.point = load->point;
+  in.couple = load->couple;
   in.start_time = toSimTime(msg.header.stamp);
   in.duration = msg.duration;
   return in;
@@ -41,20 +55,15 @@ Result<sim::WrenchInput> toWrenchInput(const cga_rigid_sim::CgaWrench& msg,
 
 Result<sim::ImpulseInput> toImpulseInput(const cga_rigid_sim::CgaImpulse& msg,
                                          const std::string& world_frame, const std::string& topic) {
-  auto f = toFiniteEigen(msg.f, topic + ".f");
-  if (!f) return Error{f.error()};
-  if (!std::isfinite(msg.alpha)) return notFinite(topic + ".alpha");
-  auto point = toFiniteEigen(msg.point, topic + ".point");
-  if (!point) return Error{point.error()};
-  auto torque = toFiniteEigen(msg.torque, topic + ".torque");
-  if (!torque) return Error{torque.error()};
+  auto load = toCgaLoad(msg, topic);
+  if (!load) return Error{load.error()};
 
   sim::ImpulseInput in;
   in.body = msg.body;
   in.frame = frameOrWorld(msg.header.frame_id, world_frame);
-  in.J = cga::Force(*f, msg.alpha);
-  in.point = *point;
-  in.angular = *torque;
+  in.J = load->F;
+  in.point = load->point;
+  in.angular = load->couple;
   in.start_time = toSimTime(msg.header.stamp);
   return in;
 }
