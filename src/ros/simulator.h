@@ -1,6 +1,9 @@
 // Simulator: the ROS face of one sim::World. Parameters, topics, services, tf2 and /clock
 // (doc/node.md has the interface tables). Thin: every callback converts a
 // message to the core's types (conversions.h), calls World, and converts the answer back.
+// Its rooms: simulator.cc (construction), simulator_loop.cc (the main loop),
+// simulator_publishers.cc (outputs), simulator_inputs.cc (input topics, refusals) and
+// simulator_services.cc (services).
 //
 // Threading: one thread. The main loop steps the World and services the callback queue
 // between steps (waiting on it until the next real-time deadline, or every kServiceInterval

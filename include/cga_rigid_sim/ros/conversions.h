@@ -8,6 +8,9 @@
 //
 // Time: every stamp is simulation time. A ROS time t ↔ t.toSec() seconds of simulation; the
 // zero stamp means "the next step" for inputs (sim/input/inputs.h).
+//
+// Defined in src/ros/: conversions.cc (time, geometry), conversions_inputs.cc (inputs, refusal
+// texts, pose and twist) and conversions_outputs.cc (outputs, built anew or in place).
 #pragma once
 
 #include <cga_rigid_sim/ApplyJointEffort.h>

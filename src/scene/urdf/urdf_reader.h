@@ -1,6 +1,8 @@
-// Internal to the scene layer: the reader behind readUrdfXml (urdf_xml.h), shared by the two
-// files that implement it — urdf_xml.cc (the document, links, joints, the tree, the mass
-// extension) and urdf_collision.cc (collision geometry, contact parameters, Gazebo friction).
+// Internal to the scene layer: the reader behind readUrdfXml (urdf_xml.h), shared by the files
+// that implement it — urdf_xml.cc (the document, its bounds, the extension's placement, the number
+// syntax), urdf_xml_links.cc (links, the mass extension), urdf_xml_joints.cc (joints, mimic
+// chains), urdf_xml_tree.cc (the tree check) and urdf_xml_collision.cc (collision geometry,
+// contact parameters, Gazebo's friction and <self_collide>).
 #pragma once
 
 #include <tinyxml2.h>

@@ -1,6 +1,6 @@
 // The collision part of the URDF reader (urdf_reader.h): <collision> geometry with its origin,
 // the contact parameters of the extension <cga_rigid_sim:contact>, and Gazebo's <mu1>/<mu2>
-// (doc/urdf.md).
+// and <self_collide> (doc/urdf.md).
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -15,6 +15,9 @@ namespace detail {
 using tinyxml2::XMLAttribute;
 using tinyxml2::XMLElement;
 
+// The <geometry> of a <visual> or <collision>: its shape element and numbers, in urdfdom's
+// syntax. `strict` (a collision): sizes > 0 and a mesh scale without zeros, as a collision shape
+// (and a mass from geometry) needs; a <visual> is only read as urdfdom reads it.
 std::optional<Error> Reader::readGeometry(const XMLElement* holder, const std::string& owner,
                                           bool strict, CollisionGeometry* g) const {
   using Kind = CollisionShape::Kind;
@@ -136,6 +139,31 @@ void Reader::readGazebo(const XMLElement* e) {
     (is_mu1 ? f.mu1 : f.mu2) = GazeboNumber{text ? text : "", c->GetLineNum()};  // last wins
   }
   if (f.mu1 || f.mu2) gazebo_.push_back(std::move(f));
+}
+
+// Gazebo's <self_collide> (true/false, 1/0), of the model (<gazebo> without reference) or of one
+// link; the last one written wins, as in Gazebo. Links are checked once all are known.
+std::optional<Error> Reader::readSelfCollide(const XMLElement* e) {
+  const XMLElement* c = e->FirstChildElement("self_collide");
+  if (!c) return std::nullopt;
+  const char* raw = c->GetText();
+  std::string text = raw ? raw : "";
+  text.erase(0, text.find_first_not_of(" \t\n\r"));
+  text.erase(text.find_last_not_of(" \t\n\r") + 1);
+  bool value = false;
+  if (text == "true" || text == "1")
+    value = true;
+  else if (text != "false" && text != "0")
+    return fail(c->GetLineNum(),
+                "<self_collide> must be true or false (got " + inQuotes(text) + ")");
+  const char* reference = e->Attribute("reference");
+  if (!reference) {
+    out_.self_collide_model = value;
+  } else {
+    out_.self_collide_links[reference] = value;
+    self_collide_lines_.emplace_back(reference, c->GetLineNum());
+  }
+  return std::nullopt;
 }
 
 // Gazebo's μ for each link's collisions that do not set their own with <cga_rigid_sim:contact>.
