@@ -232,7 +232,7 @@ TEST(ExactFreeFlow, NStepsEqualOneLongStep) {
 }
 
 // Truth: the semigroup property for the steps that take Π's part of ψ from its addition theorem
-// and, for small phase steps, sn, cn, dn from theirs (free_flow.cc, point 7): j steps of h
+// and, for small phase steps, sn, cn, dn from theirs (doc/conventions.md (E32), free_flow_phase.h): j steps of h
 // against one step of j h, for j = 1 … 100 (three runs and a part), which the cache evaluates
 // from its anchor with R_J and Bulirsch's sn, cn, dn — an independent evaluation of the same
 // closed form. Phase steps δ = ω_p h of 1e-3, 0.03 and 0.2 take the small-step path; 0.05 … 3.6

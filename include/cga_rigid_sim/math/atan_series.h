@@ -1,4 +1,4 @@
-// atan near zero, for the exact flow's per-step angle increments (free_flow.cc;
+// atan near zero, for the exact flow's per-step angle increments (free_flow_phase.h;
 // doc/conventions.md (E32)): the third-kind integral's addition-theorem term and the turn of Θ
 // are the atan of quantities of the order of the phase step, which is small at small h. There,
 // the Taylor series x − x³/3 + x⁵/5 − …, written as x + x z P(z) (z = x²): a small correction to

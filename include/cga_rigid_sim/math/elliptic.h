@@ -1,5 +1,5 @@
 // Elliptic integrals and Jacobi elliptic functions for the torque-free flow of asymmetric
-// bodies (free_flow.cc; doc/conventions.md (E22)): Carlson's symmetric integrals R_F, R_C and
+// bodies (free_flow_constants.cc, free_flow_phase.h; doc/conventions.md (E22)): Carlson's symmetric integrals R_F, R_C and
 // R_J, and sn, cn, dn by the arithmetic–geometric mean. Internal to the dynamics layer; inline,
 // as they sit on the hot path of every asymmetric step.
 #pragma once

@@ -1,11 +1,11 @@
 // sin and cos (and versin = 1 − cos) from their Taylor polynomials, for the hot paths that know
 // their angle is small or already reduced: the coefficients 1/n! once, and the evaluation
 // schemes their callers need, each with the range where its first omitted term is below an ulp.
-//   sinCosReduced      |x| ≤ π/2, one reflection      the exact flow's half angles (free_flow.cc,
+//   sinCosReduced      |x| ≤ π/2, one reflection      the exact flow's half angles (free_flow_psi.h,
 //                                                     elliptic.h), the tree midpoint's
 //   sinCosSmall        |x| ≤ 1/16 (1/256: shorter)    a tree joint's angle over one step
 //   sinVersin{Fine,Small,Medium}, z = φ² ≤ 2⁻¹⁵, ≤ 1/1024, ≤ 1/4 (Estrin's scheme in z)
-//                                                     cga2's axis rotations (integrator_cga2.cc)
+//                                                     cga2's axis rotations (splitting_flows.h)
 // Each keeps its own order of operations: callers rely on their results to the last bit.
 #pragma once
 
