@@ -8,11 +8,8 @@
 
 namespace cga_rigid_sim {
 namespace sim {
+namespace detail {
 namespace {
-
-using detail::forBodies;
-using detail::forRows;
-using detail::forTrees;
 
 // Each row's target pseudo-velocity: the fraction `correction` of its overlap beyond the slop
 // over one step (none for a compliant contact, whose spring holds the overlap); returns the
@@ -37,23 +34,22 @@ double sweepPositions(const SolverSettings& st, std::vector<SolverTree>& trees,
   forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
     if (c.bias <= 0 && c.lambda_p == 0.0) return;
     const int a = work.a[k], b = work.b[k];
-    double u = c.n.dot(detail::relativeVelocity(work.vel, a, b, c));
-    if (detail::onTree(c)) u += c.n.dot(detail::treeVelocity<&SolverTree::pnu>(trees, c));
+    double u = c.n.dot(relativeVelocity(work.vel, a, b, c));
+    if (onTree(c)) u += c.n.dot(treeVelocity<&SolverTree::pnu>(trees, c));
     const double lp = std::max(0.0, c.lambda_p + (c.bias - u) * c.inv_k_nn);
     const double d = lp - c.lambda_p;
     c.lambda_p = lp;
-    if (d != 0.0)
-      detail::applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
+    if (d != 0.0) applyTo<&SolverTree::pnu>(work.vel, work.response, trees, a, b, c, d * c.n);
   });
-  double change = detail::bodyChange(work, I);
+  double change = bodyChange(work, I);
   forTrees(work, trees, I, [&](SolverTree& t) {  // within the limits
-    change = std::max(change, detail::sweepPositionLimits(t, st.h));
+    change = std::max(change, sweepPositionLimits(t, st.h));
   });
   if (I.trees > 0) {
     forTrees(work, trees, I, [](SolverTree& t) { t.pnu_sweep = t.pnu - t.pnu_sweep; });
     forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
-      if (detail::onTree(c))
-        change = std::max(change, detail::treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
+      if (onTree(c))
+        change = std::max(change, treeVelocity<&SolverTree::pnu_sweep>(trees, c).norm());
     });
   }
   return change;
@@ -70,6 +66,7 @@ void capTreeShifts(const SolverSettings& st, std::vector<SolverTree>& trees) {
 }
 
 }  // namespace
+}  // namespace detail
 
 void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
                     std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
@@ -80,22 +77,23 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     b.pv.setZero();
     b.pw.setZero();
   }
-  if (setBiases(st, rows) == 0.0) return;
+  if (detail::setBiases(st, rows) == 0.0) return;
   std::fill(work.vel.begin(), work.vel.end(), SolverWork::Twist());  // responses, islands kept
   for (const SolverWork::Island& I : work.islands) {
     double island_bias = 0.0;
-    forRows(work, rows, I,
-            [&](std::size_t, ContactRow& c) { island_bias = std::max(island_bias, c.bias); });
+    detail::forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+      island_bias = std::max(island_bias, c.bias);
+    });
     if (island_bias == 0.0) continue;
     for (int it = 0; it < st.position_iterations; ++it)
-      if (sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
+      if (detail::sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
         break;  // 0.1 % of the island's largest correction
   }
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].pv = work.vel[s].v;
     bodies[s].pw = work.vel[s].w;
   }
-  capTreeShifts(st, trees);
+  detail::capTreeShifts(st, trees);
 }
 
 }  // namespace sim

@@ -10,12 +10,8 @@
 
 namespace cga_rigid_sim {
 namespace sim {
+namespace detail {
 namespace {
-
-using detail::forBodies;
-using detail::forRows;
-using detail::forTrees;
-using detail::Twist;
 
 // The working arrays for `bodies` and `rows`: responses, lever arms, the rows' slots (the
 // dummy for none); the velocities are taken from the bodies by the caller.
@@ -74,8 +70,7 @@ double islandTolerance(const SolverSettings& st, std::vector<SolverTree>& trees,
   });
   if (I.trees > 0)
     forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
-      if (detail::onTree(c))
-        speed = std::max(speed, detail::treeVelocity<&SolverTree::nu>(trees, c).norm());
+      if (onTree(c)) speed = std::max(speed, treeVelocity<&SolverTree::nu>(trees, c).norm());
     });
   return st.tolerance + st.tolerance_of_kick * st.kick +
          st.tolerance_of_speed * std::max(0.0, speed - 2.0 * st.kick);
@@ -105,9 +100,8 @@ void warmStart(std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, So
     c.lambda_n = c.compliant ? c.lambda_fixed : std::max(0.0, c.lambda_n);
     const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
     if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
-    detail::applyTo<&SolverTree::nu>(
-        work.vel, work.response, trees, work.a[k], work.b[k], c,
-        c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
+    applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
+                             c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
   });
 }
 
@@ -135,15 +129,14 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool bounce = attempt == 0;
     if (!bounce) restartCold(trees, rows, work, I);  // start again from before the contacts
-    forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
-      detail::setTarget(st, work, trees, bounce, k, c);
-    });
+    forRows(work, rows, I,
+            [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
     // A resting island of faces solved directly; the sweeps then only confirm it.
     if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I))
       warmStart(trees, rows, work, I);
     int it = 0;
     for (; it < max_iterations; ++it) {
-      if (detail::sweepIsland(st, trees, rows, work, I, patch) < tolerance) {
+      if (sweepIsland(st, trees, rows, work, I, patch) < tolerance) {
         ++it;
         break;
       }
@@ -155,6 +148,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
 }
 
 }  // namespace
+}  // namespace detail
 
 double kineticEnergy(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees) {
   double T = 0.0;
@@ -168,19 +162,20 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
                            std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                            SolverWork& work) {
   SolveStats stats;
-  loadWork(bodies, rows, work);
+  detail::loadWork(bodies, rows, work);
   detail::makeGroups(rows, work);
   detail::makeIslands(rows, static_cast<int>(trees.size()), work);
   const std::size_t n = bodies.size();
   // The velocities before any contact impulse: the warm start is applied after the targets
   // are read from them.
   for (std::size_t s = 0; s < n; ++s) work.vel_start[s] = {bodies[s].v, bodies[s].w};
-  work.vel_start[n] = Twist();
+  work.vel_start[n] = SolverWork::Twist();
   std::copy(work.vel_start.begin(), work.vel_start.end(), work.vel.begin());
   for (SolverTree& t : trees) t.nu_start = t.nu;
   if (st.kinetic_energy) stats.kinetic_before = kineticEnergy(bodies, trees);
   for (const SolverWork::Island& I : work.islands)
-    stats.iterations = std::max(stats.iterations, solveIsland(st, bodies, trees, rows, work, I));
+    stats.iterations =
+        std::max(stats.iterations, detail::solveIsland(st, bodies, trees, rows, work, I));
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].v = work.vel[s].v;
     bodies[s].w = work.vel[s].w;
