@@ -1,6 +1,6 @@
 // The collision cache (doc/contacts.md#detection): per shape of every body its FCL geometry,
 // inflated by a speculative margin, the points the ground plane is tested against and a
-// bounding sphere, made once per topology; each step places the shapes at their bodies' poses.
+// bounding sphere, made once per topology (each step places the shapes: placeShape).
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
@@ -107,12 +107,6 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
   return out;
 }
 
-// The pose of body j at the step's start.
-const cga::Motor& bodyPose(const Model& model, const Data& data, int j) {
-  const int i = model.moving_of_body[j];
-  return i >= 0 ? data.bodies[i].state.M_WB : model.scene.bodies[j].M_WB0;
-}
-
 }  // namespace
 
 void buildCollisionCache(const Model& model, CollisionCache& cache) {
@@ -127,14 +121,6 @@ void buildCollisionCache(const Model& model, CollisionCache& cache) {
   cache.sweep.reserve(cache.shapes.size());
   cache.topology = model.topology_version;
   cache.built = true;
-}
-
-void placeShape(const Model& model, const Data& data, CollisionCache& cache, std::size_t s) {
-  const CollisionCache::Shape& cs = cache.shapes[s];
-  const cga::Motor M_WS =
-      bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
-  cache.pose_W[s] = M_WS.toIsometry(model.lambda);
-  cache.centre_W[s] = cache.pose_W[s] * cs.centre_S;
 }
 
 }  // namespace detail

@@ -45,8 +45,9 @@ bool near(const CollisionCache::Interval& I, const CollisionCache::Interval& J) 
 
 // The sweep's entries p and q, near in x, y and z: to the narrow phase if they are shapes of
 // two bodies that may collide and their bounding spheres overlap.
-void testPair(const Model& model, CollisionCache& cache, std::size_t p, std::size_t q,
-              std::vector<Contact>& out) {
+__attribute__((always_inline)) inline void testPair(const Model& model, CollisionCache& cache,
+                                                    std::size_t p, std::size_t q,
+                                                    std::vector<Contact>& out) {
   const int s1 = cache.sweep[p].shape, s2 = cache.sweep[q].shape;
   const CollisionCache::Shape& A = cache.shapes[s1];
   const CollisionCache::Shape& B = cache.shapes[s2];

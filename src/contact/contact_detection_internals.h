@@ -3,7 +3,7 @@
 // narrow phases the broad phase hands its pairs to. FCL is included by the detection's files
 // only:
 //
-//   contact_collision_cache.cc   the cache: shapes made once per topology, placed every step
+//   contact_collision_cache.cc   the cache: its shapes, made once per topology
 //   contact_detection.cc         detectContacts: the broad phase (sort and sweep)
 //   contact_ground_plane.cc      the ground plane against each shape's points
 //   contact_shape_pairs.cc       every other pair through FCL
@@ -73,8 +73,20 @@ inline void combineSurfaces(const Model& model, const scene::SurfaceParameters& 
 
 /// Makes the cache's shapes for `model` (contact_collision_cache.cc).
 void buildCollisionCache(const Model& model, CollisionCache& cache);
+/// The pose of body j at the step's start.
+inline const cga::Motor& bodyPose(const Model& model, const Data& data, int j) {
+  const int i = model.moving_of_body[j];
+  return i >= 0 ? data.bodies[i].state.M_WB : model.scene.bodies[j].M_WB0;
+}
+
 /// Shape s's pose and bounding sphere's centre, world, at its body's pose of the step's start.
-void placeShape(const Model& model, const Data& data, CollisionCache& cache, std::size_t s);
+inline void placeShape(const Model& model, const Data& data, CollisionCache& cache, std::size_t s) {
+  const CollisionCache::Shape& cs = cache.shapes[s];
+  const cga::Motor M_WS =
+      bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
+  cache.pose_W[s] = M_WS.toIsometry(model.lambda);
+  cache.centre_W[s] = cache.pose_W[s] * cs.centre_S;
+}
 
 /// Appends the contacts of shapes [first, last) with the ground plane, at their placed poses;
 /// `fixed_margin` < 0: each body's travel over the step is its speculative margin. `asleep` as

@@ -30,10 +30,15 @@ inline bool onTree(const ContactRow& c) { return c.ta >= 0 || c.tb >= 0; }
 
 // ---- Per contact (the sweeps' whole cost) ----
 
-/// u = J ν of the contact's tree sides (ν or, for the position correction, pν), for Nu one of
-/// nu, pnu, nu_sweep, pnu_sweep (contact_tree_jacobians.cc).
+/// u = J ν of the contact's tree sides (ν or, for the position correction, pν; or their change
+/// over a sweep), J from contact_tree_jacobians.cc.
 template <Eigen::VectorXd SolverTree::*Nu>
-Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c);
+Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c) {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  if (c.ta >= 0) u.noalias() += c.ja * (trees[c.ta].*Nu);
+  if (c.tb >= 0) u.noalias() -= c.jb * (trees[c.tb].*Nu);
+  return u;
+}
 
 /// The impulse P (world axes), +P on side a and −P on side b, added to a tree side's ν or pν
 /// (Nu: nu or pnu; contact_tree_jacobians.cc).

@@ -67,29 +67,13 @@ void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Ma
 }
 
 template <Eigen::VectorXd SolverTree::*Nu>
-Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c) {
-  Eigen::Vector3d u = Eigen::Vector3d::Zero();
-  if (c.ta >= 0) u.noalias() += c.ja * (trees[c.ta].*Nu);
-  if (c.tb >= 0) u.noalias() -= c.jb * (trees[c.tb].*Nu);
-  return u;
-}
-
-template <Eigen::VectorXd SolverTree::*Nu>
 __attribute__((noinline)) void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c,
                                             const Eigen::Vector3d& P) {
   if (c.ta >= 0) (trees[c.ta].*Nu).noalias() += c.wa * P;
   if (c.tb >= 0) (trees[c.tb].*Nu).noalias() -= c.wb * P;
 }
 
-// The rates the solves read: ν and pν, and their change over a sweep.
-template Eigen::Vector3d treeVelocity<&SolverTree::nu>(const std::vector<SolverTree>&,
-                                                       const ContactRow&);
-template Eigen::Vector3d treeVelocity<&SolverTree::pnu>(const std::vector<SolverTree>&,
-                                                        const ContactRow&);
-template Eigen::Vector3d treeVelocity<&SolverTree::nu_sweep>(const std::vector<SolverTree>&,
-                                                             const ContactRow&);
-template Eigen::Vector3d treeVelocity<&SolverTree::pnu_sweep>(const std::vector<SolverTree>&,
-                                                              const ContactRow&);
+// The impulses the velocity solve and the position correction apply.
 template void applyToTrees<&SolverTree::nu>(std::vector<SolverTree>&, const ContactRow&,
                                             const Eigen::Vector3d&);
 template void applyToTrees<&SolverTree::pnu>(std::vector<SolverTree>&, const ContactRow&,

@@ -63,9 +63,12 @@ void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<Sol
 
 // One sweep over a block of a face's corners: their normal impulses together (the block's
 // pseudo-inverse brings every normal velocity to its target at once), or one by one when that
-// would make one negative; then each corner's friction.
-void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
-                std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
+// would make one negative; then each corner's friction. Kept out of the sweep's loop, which
+// inlines the single contacts' update instead (doc/decisions.md).
+__attribute__((noinline)) void sweepGroup(const SolverWork::Group& g, SolverWork& work,
+                                          std::vector<SolverTree>& trees,
+                                          std::vector<ContactRow>& rows, const ContactModel& model,
+                                          bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
   if (rows[g.first].compliant) {  // the springs' impulses are fixed: friction alone
     for (int i = 0; i < g.size; ++i) {
@@ -110,9 +113,12 @@ void sweepGroup(const SolverWork::Group& g, SolverWork& work, std::vector<Solver
 }
 
 // One sweep over a single contact: its normal impulse, then its friction at the velocity after
-// it, applied together; then its patch couples.
-void sweepContact(const SolverSettings& st, SolverWork& work, std::vector<SolverTree>& trees,
-                  std::vector<ContactRow>& rows, std::size_t k, bool patch) {
+// it, applied together; then its patch couples. Inlined into the sweep's loop: a call per
+// contact and sweep would cost a fair part of the update itself.
+__attribute__((always_inline)) inline void sweepContact(const SolverSettings& st, SolverWork& work,
+                                                        std::vector<SolverTree>& trees,
+                                                        std::vector<ContactRow>& rows,
+                                                        std::size_t k, bool patch) {
   ContactRow& c = rows[k];
   const int a = work.a[k], b = work.b[k];
   // Normal: the impulse that brings u_n to its target, kept ≥ 0.
