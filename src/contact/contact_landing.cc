@@ -1,3 +1,5 @@
+// Landings (contact_landing.h, doc/contacts.md#impacts): the landing time of a body over the
+// plane, its landing, and the land sub-stage of the contact step (contact_step.h).
 #include "contact/contact_landing.h"
 
 #include <algorithm>
@@ -88,12 +90,6 @@ double land(const Model& model, Data& data, ContactScratch& S, int i, double t,
   b.contact_step = MovingBodyData::ContactStep::kDone;
   return dissipated;
 }
-
-}  // namespace sim
-}  // namespace cga_rigid_sim
-
-namespace cga_rigid_sim {
-namespace sim {
 
 bool landBodies(const Model& model, Data& data, ContactScratch& S, const SolverSettings& st) {
   // Landings: a body whose contacts are all gaps to the ground plane that close within the

@@ -1,3 +1,6 @@
+// Resting islands solved directly (contact_resting.h, doc/contacts.md#resting-islands): an
+// island of faces at rest tried as welded, its faces' wrenches from one linear solve, shared
+// among their corners and accepted only when every corner pushes and sticks.
 #include "contact/contact_resting.h"
 
 #include <cmath>
@@ -22,28 +25,37 @@ int localIndex(const SolverWork& work, const SolverWork::Island& I, int s) {
   return -1;
 }
 
-}  // namespace
+// The face block of island I's f-th group.
+const SolverWork::Group& faceGroup(const SolverWork& work, const SolverWork::Island& I, int f) {
+  return work.groups[work.island_group[I.first_group + f]];
+}
 
-bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>& rows,
-                  SolverWork& work, const SolverWork::Island& I) {
-  // One face alone already converges in a sweep or two (its normal block is exact).
+// Whether island I may be a resting one: no tree, at least two faces (one face alone already
+// converges in a sweep or two: its normal block is exact) of three or four corners, none of
+// which slid in the last step (its warm start on the cone's rim): a sliding island would only
+// fail the corners' test (shareAmongCorners).
+bool restingCandidate(const std::vector<ContactRow>& rows, const SolverWork& work,
+                      const SolverWork::Island& I) {
   if (I.trees > 0 || I.groups > kMaxRestingFaces || I.groups < 2) return false;
-  const int n = static_cast<int>(bodies.size());
-  const int F = I.groups;
-  // Faces of three or four corners, none of which slid in the last step (its warm start on the
-  // cone's rim): a sliding island would only fail the test below.
-  for (int f = 0; f < F; ++f) {
-    const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
+  for (int f = 0; f < I.groups; ++f) {
+    const SolverWork::Group& g = faceGroup(work, I, f);
     if (g.size < 3) return false;
     for (int i = 0; i < g.size; ++i) {
       const ContactRow& c = rows[g.first + i];
       if (c.lambda_n > 0 && c.lambda_t.norm() >= (1 - 1e-9) * c.mu * c.lambda_n) return false;
     }
   }
+  return true;
+}
+
+// The faces: at rest, not on a line. Each face's centre, its corners from it, S⁻¹, its sides'
+// places in the island and their maps Φ.
+bool makeFaces(const std::vector<SolverBody>& bodies, const std::vector<ContactRow>& rows,
+               SolverWork& work, const SolverWork::Island& I) {
+  const int n = static_cast<int>(bodies.size());
   SolverWork::Resting& R = work.resting;
-  // Faces: at rest, not on a line.
-  for (int f = 0; f < F; ++f) {
-    const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
+  for (int f = 0; f < I.groups; ++f) {
+    const SolverWork::Group& g = faceGroup(work, I, f);
     SolverWork::Resting::Face& face = R.faces[f];
     const int a = work.a[g.first], b = work.b[g.first];
     face.c.setZero();
@@ -69,9 +81,14 @@ bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>
       if (face.side[side] >= 0)
         face.phi[side] = faceMap(face.c - bodies[side ? b : a].x, side ? -1.0 : 1.0);
   }
+  return true;
+}
 
-  // A W = −J v: the wrenches W_f that bring every face's relative twist to zero, with
-  // A_ff' = Σ over the bodies they share of Φ_fs M_s⁻¹ Φ_f'sᵀ.
+// A W = −J v: the wrenches W_f that bring every face's relative twist to zero, with
+// A_ff' = Σ over the bodies they share of Φ_fs M_s⁻¹ Φ_f'sᵀ. False when A cannot be solved.
+bool solveWrenches(SolverWork& work, const SolverWork::Island& I) {
+  const int F = I.groups;
+  SolverWork::Resting& R = work.resting;
   R.A.setZero(6 * F, 6 * F);
   R.rhs.setZero(6 * F);
   for (int f = 0; f < F; ++f)
@@ -95,13 +112,17 @@ bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>
   R.ldlt.compute(R.A);
   if (R.ldlt.info() != Eigen::Success) return false;
   R.W = R.ldlt.solve(R.rhs);
-  if (!R.W.allFinite() || (R.A * R.W - R.rhs).norm() > 1e-9 * R.rhs.norm() + 1e-300) return false;
+  return R.W.allFinite() && !((R.A * R.W - R.rhs).norm() > 1e-9 * R.rhs.norm() + 1e-300);
+}
 
-  // Each face's wrench shared among its corners with the least squares of impulses:
-  // P_i = P/m + β × ρ_i, β = S⁻¹ L (Σ P_i = P, Σ ρ_i × P_i = L). Every corner must push and
-  // stick: λ_n ≥ 0, |λ_t| ≤ μ λ_n.
-  for (int f = 0; f < F; ++f) {
-    const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
+// Each face's wrench shared among its corners with the least squares of impulses:
+// P_i = P/m + β × ρ_i, β = S⁻¹ L (Σ P_i = P, Σ ρ_i × P_i = L). Every corner must push and
+// stick: λ_n ≥ 0, |λ_t| ≤ μ λ_n.
+bool shareAmongCorners(const std::vector<ContactRow>& rows, SolverWork& work,
+                       const SolverWork::Island& I) {
+  SolverWork::Resting& R = work.resting;
+  for (int f = 0; f < I.groups; ++f) {
+    const SolverWork::Group& g = faceGroup(work, I, f);
     SolverWork::Resting::Face& face = R.faces[f];
     const Eigen::Vector3d P = R.W.segment<3>(6 * f), L = R.W.segment<3>(6 * f + 3);
     const Eigen::Vector3d beta = face.S_inv * L;
@@ -113,11 +134,15 @@ bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>
       if (!(ln >= 0) || lt.norm() > c.mu * ln) return false;
     }
   }
+  return true;
+}
 
-  // Accepted: the rows' impulses, and the island's velocities after them.
-  for (int f = 0; f < F; ++f) {
-    const SolverWork::Group& g = work.groups[work.island_group[I.first_group + f]];
-    const SolverWork::Resting::Face& face = R.faces[f];
+// Accepted: the rows' impulses, and the island's velocities after them.
+void acceptResting(int n, std::vector<ContactRow>& rows, SolverWork& work,
+                   const SolverWork::Island& I) {
+  for (int f = 0; f < I.groups; ++f) {
+    const SolverWork::Group& g = faceGroup(work, I, f);
+    const SolverWork::Resting::Face& face = work.resting.faces[f];
     const int a = work.a[g.first], b = work.b[g.first];
     Eigen::Vector3d P = Eigen::Vector3d::Zero(), Ma = P, Mb = P;
     for (int i = 0; i < g.size; ++i) {
@@ -138,6 +163,16 @@ bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>
       work.vel[b].w -= work.response[b].inv_inertia * Mb;
     }
   }
+}
+
+}  // namespace
+
+bool solveResting(const std::vector<SolverBody>& bodies, std::vector<ContactRow>& rows,
+                  SolverWork& work, const SolverWork::Island& I) {
+  if (!restingCandidate(rows, work, I) || !makeFaces(bodies, rows, work, I) ||
+      !solveWrenches(work, I) || !shareAmongCorners(rows, work, I))
+    return false;
+  acceptResting(static_cast<int>(bodies.size()), rows, work, I);
   return true;
 }
 

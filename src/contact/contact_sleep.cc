@@ -1,3 +1,6 @@
+// Sleeping islands (contact_sleep.h, doc/contacts.md#sleeping): waking what was changed or
+// touched before detection, and after the solve counting each body's still steps and putting
+// the islands still long enough to sleep.
 #include "contact/contact_sleep.h"
 
 #include <algorithm>
@@ -99,6 +102,99 @@ void reset(const Model& model, Data& data, SleepState& S) {
   S.counting = false;
 }
 
+// The fastest contact point of each awake body in this step's contacts (−1: none), the
+// landing bodies blocked, and the bodies joined by their contacts.
+void contactSpeeds(const Model& model, const Data& data, SleepState& S) {
+  const std::size_t n = data.bodies.size();
+  const double lambda = model.lambda;
+  S.speed.assign(n, -1.0);  // −1: no contact this step
+  S.blocked.assign(n, 0);
+  S.sets.reset(static_cast<int>(n));
+  for (const Contact& c : data.contacts) {
+    const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
+    for (const int i : {a, b}) {
+      if (i < 0 || S.asleep[i] || S.speed[i] >= kSleepSpeed) continue;  // known to move
+      const MovingBodyData& body = data.bodies[i];
+      // A landing body is mid-flight within the step.
+      if (body.contact_step == MovingBodyData::ContactStep::kDone) {
+        S.blocked[i] = 1;
+        continue;
+      }
+      // A link moves with its tree: its speed is the tree's (joinTrees).
+      if (model.tree_of_moving[i] >= 0) {
+        S.speed[i] = std::max(S.speed[i], 0.0);
+        continue;
+      }
+      // Not the contact point's own velocity (a rolling ball's is zero): the body's fastest
+      // point within reach of its contacts, |v| + |ω| |p − x|.
+      const double arm = (c.point_W - dynamics::comPosition_W(body.state, lambda)).norm();
+      const double v = dynamics::comVelocity_W(body.state, lambda).norm() +
+                       dynamics::angularVelocity_W(body.state).norm() * arm;
+      S.speed[i] = std::max(S.speed[i], v);
+    }
+    if (a >= 0 && b >= 0) S.sets.join(a, b);
+  }
+}
+
+// A tree with a link in contact: every link joins its island, and its speed is the tree's
+// fastest link's (a swinging arm keeps a robot awake whose feet rest). Timed efforts keep it
+// awake: they end by themselves.
+void joinTrees(const Model& model, const Data& data, SleepState& S) {
+  for (std::size_t t = 0; t < model.trees.size(); ++t) {
+    const TreeModel& tm = model.trees[t];
+    int in_contact = -1;
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount() && in_contact < 0; ++b)
+      if (S.speed[tm.movingOf(b)] >= 0 && !S.asleep[tm.movingOf(b)]) in_contact = tm.movingOf(b);
+    if (in_contact < 0) continue;
+    double speed = 0.0;
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b)
+      speed = std::max(speed, linkSpeed(model, data, tm.movingOf(b)));
+    const bool blocked = !data.trees[t].timed.empty();
+    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
+      const int i = tm.movingOf(b);
+      S.speed[i] = speed;
+      S.blocked[i] = S.blocked[i] || blocked;
+      S.sets.join(i, in_contact);
+    }
+  }
+}
+
+// Still steps in a row; an island is blocked by any member that is not still for `steps`.
+void countStillSteps(SleepState& S, std::size_t n, int steps) {
+  S.counting = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (S.asleep[i]) continue;
+    S.still[i] = S.speed[i] >= 0 && S.speed[i] < kSleepSpeed ? S.still[i] + 1 : 0;
+    S.counting = S.counting || S.still[i] > 0;
+    if (S.blocked[i] || S.still[i] < steps) S.blocked[S.sets.find(static_cast<int>(i))] = 1;
+  }
+}
+
+// Moving body i falls asleep in the island `root`: it stays where the contact stage left it (no
+// drift), at rest. The energy book had it drift by h v + shift and keep its kinetic energy:
+// both go to the dissipated energy instead, so the book still balances.
+void putToSleep(const Model& model, Data& data, SleepState& S, int i, int root) {
+  const double lambda = model.lambda, h = model.config.dt;
+  const Eigen::Vector3d& g = model.scene.gravity_W;
+  MovingBodyData& b = data.bodies[i];
+  if (const int t = model.tree_of_moving[i]; t >= 0) {  // its tree sleeps as a whole
+    if (!data.trees[t].asleep) putTreeToSleep(model, data, t);
+  } else {
+    const dynamics::Inertia& I = model.moving[i].inertia;
+    const Eigen::Vector3d v = dynamics::comVelocity_W(b.state, lambda);
+    data.dissipated_energy +=
+        I.kineticEnergy(b.state.omega_B, lambda) - I.mass() * g.dot(h * v + b.contact_shift_W);
+  }
+  b.state.omega_B = cga::Bivelocity();
+  b.contact_shift_W.setZero();
+  b.contact_step = MovingBodyData::ContactStep::kDone;
+  S.island[i] = root;
+  S.asleep[i] = 1;
+  S.rotation[i] = b.state.M_WB.rotation();
+  S.position[i] = b.state.M_WB.translation(lambda);
+  ++S.count;
+}
+
 }  // namespace
 
 void wakeChanged(const Model& model, Data& data, SleepState& S) {
@@ -142,94 +238,20 @@ bool wakeTouched(const Model& model, Data& data, SleepState& S, const std::vecto
 void fallAsleep(const Model& model, Data& data, SleepState& S) {
   if (!model.config.contact_sleeping) return;
   // Nothing touches anything and no still steps are counted: nothing can fall asleep, and the
-  // serial per-body passes below would cost every free body in every step
-  // (doc/decisions.md#threads).
+  // per-body passes below would cost every free body a pass each step (doc/decisions.md).
   if (data.contacts.empty() && S.contacts.empty() && !S.counting) return;
   const std::size_t n = data.bodies.size();
-  const double lambda = model.lambda, h = model.config.dt;
+  const double h = model.config.dt;
   const int steps = std::max(1, static_cast<int>(std::ceil(kSleepTime / h - 1e-9)));
-  // The fastest contact point of each awake body; bodies joined by contacts.
-  S.speed.assign(n, -1.0);  // −1: no contact this step
-  S.blocked.assign(n, 0);
-  S.sets.reset(static_cast<int>(n));
-  for (const Contact& c : data.contacts) {
-    const int a = movingOf(model, c.body_a), b = movingOf(model, c.body_b);
-    for (const int i : {a, b}) {
-      if (i < 0 || S.asleep[i] || S.speed[i] >= kSleepSpeed) continue;  // known to move
-      const MovingBodyData& body = data.bodies[i];
-      // A landing body is mid-flight within the step.
-      if (body.contact_step == MovingBodyData::ContactStep::kDone) {
-        S.blocked[i] = 1;
-        continue;
-      }
-      // A link moves with its tree: its speed is the tree's (below).
-      if (model.tree_of_moving[i] >= 0) {
-        S.speed[i] = std::max(S.speed[i], 0.0);
-        continue;
-      }
-      // Not the contact point's own velocity (a rolling ball's is zero): the body's fastest
-      // point within reach of its contacts, |v| + |ω| |p − x|.
-      const double arm = (c.point_W - dynamics::comPosition_W(body.state, lambda)).norm();
-      const double v = dynamics::comVelocity_W(body.state, lambda).norm() +
-                       dynamics::angularVelocity_W(body.state).norm() * arm;
-      S.speed[i] = std::max(S.speed[i], v);
-    }
-    if (a >= 0 && b >= 0) S.sets.join(a, b);
-  }
-  // A tree with a link in contact: every link joins its island, and its speed is the tree's
-  // fastest link's (a swinging arm keeps a robot awake whose feet rest). Timed efforts keep it
-  // awake: they end by themselves.
-  for (std::size_t t = 0; t < model.trees.size(); ++t) {
-    const TreeModel& tm = model.trees[t];
-    int in_contact = -1;
-    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount() && in_contact < 0; ++b)
-      if (S.speed[tm.movingOf(b)] >= 0 && !S.asleep[tm.movingOf(b)]) in_contact = tm.movingOf(b);
-    if (in_contact < 0) continue;
-    double speed = 0.0;
-    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b)
-      speed = std::max(speed, linkSpeed(model, data, tm.movingOf(b)));
-    const bool blocked = !data.trees[t].timed.empty();
-    for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
-      const int i = tm.movingOf(b);
-      S.speed[i] = speed;
-      S.blocked[i] = S.blocked[i] || blocked;
-      S.sets.join(i, in_contact);
-    }
-  }
-  // Still steps in a row; an island is blocked by any member that is not still long enough.
-  S.counting = false;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (S.asleep[i]) continue;
-    S.still[i] = S.speed[i] >= 0 && S.speed[i] < kSleepSpeed ? S.still[i] + 1 : 0;
-    S.counting = S.counting || S.still[i] > 0;
-    if (S.blocked[i] || S.still[i] < steps) S.blocked[S.sets.find(static_cast<int>(i))] = 1;
-  }
-  const Eigen::Vector3d& g = model.scene.gravity_W;
+  contactSpeeds(model, data, S);
+  joinTrees(model, data, S);
+  countStillSteps(S, n, steps);
   bool fell = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (S.asleep[i] || S.speed[i] < 0) continue;
     const int root = S.sets.find(static_cast<int>(i));
     if (S.blocked[root]) continue;
-    // Asleep from here: it stays where the contact stage left it (no drift), at rest. The
-    // energy book had it drift by h v + shift and keep its kinetic energy: both go to the
-    // dissipated energy instead, so the book still balances.
-    MovingBodyData& b = data.bodies[i];
-    if (const int t = model.tree_of_moving[i]; t >= 0) {  // its tree sleeps as a whole
-      if (!data.trees[t].asleep) putTreeToSleep(model, data, t);
-    } else {
-      const dynamics::Inertia& I = model.moving[i].inertia;
-      const Eigen::Vector3d v = dynamics::comVelocity_W(b.state, lambda);
-      data.dissipated_energy +=
-          I.kineticEnergy(b.state.omega_B, lambda) - I.mass() * g.dot(h * v + b.contact_shift_W);
-    }
-    b.state.omega_B = cga::Bivelocity();
-    b.contact_shift_W.setZero();
-    b.contact_step = MovingBodyData::ContactStep::kDone;
-    S.island[i] = root;
-    S.asleep[i] = 1;
-    S.rotation[i] = b.state.M_WB.rotation();
-    S.position[i] = b.state.M_WB.translation(lambda);
-    ++S.count;
+    putToSleep(model, data, S, static_cast<int>(i), root);
     fell = true;
   }
   if (fell) {

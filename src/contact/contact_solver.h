@@ -25,14 +25,18 @@
 // velocity ν through the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ
 // (Δν = W P), so contacts on several links of one tree are coupled through M(q)
 // (doc/contacts.md#trees).
+//
+// This header holds what the contact step hands the solver and gets back: bodies, trees, rows,
+// settings and the entry points. The working arrays are in contact_solver_work.h; the parts of
+// a solve each have a file, listed in contact_solver_internals.h.
 #pragma once
 
 #include <Eigen/Dense>
 #include <vector>
 
 #include "cga_rigid_sim/contact/contact.h"
-#include "cga_rigid_sim/math/union_find.h"
 #include "cga_rigid_sim/sim/world_config.h"
+#include "contact/contact_solver_work.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -177,72 +181,6 @@ struct SolverSettings {
   ContactModel model;
   /// Fill SolveStats' kinetic energies (the landings book theirs; the step's solve does not).
   bool kinetic_energy = false;
-};
-
-/// The solver's working arrays, kept between steps so that a step allocates only when the
-/// problem grows. The sweeps read and write the bodies' velocities here, side by side, rather
-/// than in SolverBody (large: a pile's bodies would not stay in the cache); slot n (one past
-/// the last body) is an immovable dummy with zero velocity and response, which the rows'
-/// immovable and tree sides point to, so that a contact update has no branch per side.
-struct SolverWork {
-  struct Twist {
-    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  };
-  struct Response {
-    double inv_mass = 0.0;
-    Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Zero();
-    /// The longest lever arm of its contacts, m: a change of w moves a contact point by up to
-    /// reach·|Δw|.
-    double reach = 0.0;
-  };
-  /// Per slot + the dummy: the (pseudo-)velocities; before the current sweep (the convergence
-  /// test); before any contact impulse (the energy guard starts again from them).
-  std::vector<Twist> vel, vel_sweep, vel_start;
-  std::vector<Response> response;  ///< per slot + the dummy
-  std::vector<int> a, b;           ///< per row: its slots, the dummy for none
-  /// A run of consecutive rows between the same two bodies with one normal (a face's corners,
-  /// at most four; a single row otherwise): their normal impulses are solved as one block.
-  struct Group {
-    int first = 0, size = 1;
-    /// The pseudo-inverse of the block's normal Delassus matrix (size × size, top left): four
-    /// coplanar corners leave one combination of impulses that moves nothing.
-    Eigen::Matrix4d pinv = Eigen::Matrix4d::Zero();
-  };
-  std::vector<Group> groups;
-  /// The islands: the bodies joined by their contacts (static bodies and the ground join
-  /// nothing; a tree joins every contact on any of its links), each a run of `groups` in
-  /// island_group and of slots in island_body, trees in island_tree. They are solved one
-  /// after the other, each until its own sweeps converge: an island's impulses do not depend
-  /// on bodies it does not touch, and a settled island stops sweeping while another lands.
-  struct Island {
-    int first_group = 0, groups = 0;
-    int first_body = 0, bodies = 0;
-    int first_tree = 0, trees = 0;
-  };
-  std::vector<Island> islands;
-  std::vector<int> island_group, island_body, island_tree;
-  math::UnionFind island_sets;                 ///< makeIslands: the islands as sets
-  std::vector<int> node_island, group_island;  ///< scratch of makeIslands
-  /// The direct solve of a resting island (contact_resting.h): at most 16 faces, so its
-  /// matrices have a fixed largest size and a step allocates nothing.
-  struct Resting {
-    static constexpr int kMax = 6 * 16;
-    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
-    using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1>;
-    struct Face {
-      Eigen::Vector3d c;     ///< the corners' centre, world
-      Eigen::Vector3d p[4];  ///< the corners from c
-      Eigen::Vector3d impulse[4];
-      Eigen::Matrix3d S_inv;   ///< (Σ |ρ|² 1 − ρ ρᵀ)⁻¹
-      int side[2] = {-1, -1};  ///< its bodies' places in the island (−1: immovable)
-      Eigen::Matrix<double, 6, 6> phi[2];
-    };
-    Face faces[16];
-    Matrix A;
-    Vector rhs, W;
-    Eigen::LDLT<Matrix> ldlt;
-  };
-  Resting resting;
 };
 
 /// [r]×, the matrix of r × (·).

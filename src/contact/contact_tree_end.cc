@@ -74,10 +74,8 @@ MomentumSplit splitMomentum(const dynamics::ArticulatedBody& tree,
 // joints move at their rates, its base's bivelocity is solved from the momentum at the moved
 // pose, and what the move costs is paid from the energy of the joints' motion relative to the
 // base (T = T_locked + s² T_internal with the rates scaled by s), so that a correction — an
-// internal contact's above all — never changes the tree's momentum. Then the step's energy is
-// booked: what the tree had plus the inputs' work (trapezoidal) minus what it has now. Returns
-// what was booked, J (negative: the step created energy).
-double correctAndBook(const Model& model, Data& data, int t) {
+// internal contact's above all — never changes the tree's momentum.
+void correctTree(const Model& model, Data& data, int t) {
   const TreeModel& tm = model.trees[t];
   TreeData& td = data.trees[t];
   const dynamics::ArticulatedBody& tree = tm.body;
@@ -85,51 +83,60 @@ double correctAndBook(const Model& model, Data& data, int t) {
   const int n = tree.jointCount();
   dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;
   dynamics::TreeState& moved = data.tree_scratch.moved;
-  if (!td.contact_shift.isZero(0.0)) {
-    dynamics::treeKinematics(tree, td.state, kin);
-    const double T = dynamics::kineticEnergy(tree, kin);
-    const double E0 = treeEnergy(model, t, kin);
-    const cga::Moment Pi = dynamics::worldMomentum(tree, kin);
-    const auto moveBy = [&](double f, dynamics::TreeState& s) {
-      s = td.state;
-      if (tree.floating())
-        s.M_W0 = s.M_W0 * cga::exp(cga::Bivelocity(td.contact_shift.head<3>(),
-                                                   td.contact_shift.segment<3>(3)) *
-                                   (-0.5 * f * h));
-      s.q += f * h * td.contact_shift.tail(n);
-      for (int k = 0; k < n; ++k) {  // within the limits (the solver kept it so, to round-off)
-        const dynamics::TreeJoint& j = tree.joints()[k];
-        if (j.hasLimits()) s.q[k] = std::clamp(s.q[k], j.lower, j.upper);
-      }
-      if (tree.hasMimic()) dynamics::applyMimicPositions(tree, s.q);  // followers on leaders
-    };
-    moveBy(1.0, moved);
-    dynamics::treeKinematics(tree, moved, kin);
-    if (!tree.floating()) {
-      const double dU = treeEnergy(model, t, kin) - E0;
-      double f = 1.0, scale = 1.0;
-      if (dU > 0) {
-        f = std::min(1.0, 0.5 * T / dU);
-        if (T > 0) scale = std::sqrt(std::max(0.0, 1.0 - f * dU / T));
-      }
-      moveBy(f, td.state);
-      td.state.v *= scale;
-    } else {
-      const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda, data.tree_scratch);
-      const double U_moved = treeEnergy(model, t, kin) - dynamics::kineticEnergy(tree, kin);
-      const double dU = U_moved + full.T_locked + full.T_internal - E0;
-      double f = 1.0, s = 1.0;
-      if (dU > 0) {
-        f = full.T_internal > 0 ? std::min(1.0, 0.5 * full.T_internal / dU) : 0.0;
-        if (full.T_internal > 0) s = std::sqrt(std::max(0.0, 1.0 - f * dU / full.T_internal));
-      }
-      moveBy(f, td.state);
-      td.state.v *= s;
-      dynamics::treeKinematics(tree, td.state, kin);
-      const MomentumSplit end = splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch);
-      td.state.omega_0 = cga::Bivelocity(end.omega_0.head<3>(), end.omega_0.tail<3>());
+  dynamics::treeKinematics(tree, td.state, kin);
+  const double T = dynamics::kineticEnergy(tree, kin);
+  const double E0 = treeEnergy(model, t, kin);
+  const cga::Moment Pi = dynamics::worldMomentum(tree, kin);
+  const auto moveBy = [&](double f, dynamics::TreeState& s) {
+    s = td.state;
+    if (tree.floating())
+      s.M_W0 = s.M_W0 * cga::exp(cga::Bivelocity(td.contact_shift.head<3>(),
+                                                 td.contact_shift.segment<3>(3)) *
+                                 (-0.5 * f * h));
+    s.q += f * h * td.contact_shift.tail(n);
+    for (int k = 0; k < n; ++k) {  // within the limits (the solver kept it so, to round-off)
+      const dynamics::TreeJoint& j = tree.joints()[k];
+      if (j.hasLimits()) s.q[k] = std::clamp(s.q[k], j.lower, j.upper);
     }
+    if (tree.hasMimic()) dynamics::applyMimicPositions(tree, s.q);  // followers on leaders
+  };
+  moveBy(1.0, moved);
+  dynamics::treeKinematics(tree, moved, kin);
+  if (!tree.floating()) {
+    const double dU = treeEnergy(model, t, kin) - E0;
+    double f = 1.0, scale = 1.0;
+    if (dU > 0) {
+      f = std::min(1.0, 0.5 * T / dU);
+      if (T > 0) scale = std::sqrt(std::max(0.0, 1.0 - f * dU / T));
+    }
+    moveBy(f, td.state);
+    td.state.v *= scale;
+  } else {
+    const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda, data.tree_scratch);
+    const double U_moved = treeEnergy(model, t, kin) - dynamics::kineticEnergy(tree, kin);
+    const double dU = U_moved + full.T_locked + full.T_internal - E0;
+    double f = 1.0, s = 1.0;
+    if (dU > 0) {
+      f = full.T_internal > 0 ? std::min(1.0, 0.5 * full.T_internal / dU) : 0.0;
+      if (full.T_internal > 0) s = std::sqrt(std::max(0.0, 1.0 - f * dU / full.T_internal));
+    }
+    moveBy(f, td.state);
+    td.state.v *= s;
+    dynamics::treeKinematics(tree, td.state, kin);
+    const MomentumSplit end = splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch);
+    td.state.omega_0 = cga::Bivelocity(end.omega_0.head<3>(), end.omega_0.tail<3>());
   }
+}
+
+// The correction (correctTree), then the step's energy booked: what the tree had plus the
+// inputs' work (trapezoidal) minus what it has now. Returns what was booked, J (negative: the
+// step created energy).
+double correctAndBook(const Model& model, Data& data, int t) {
+  TreeData& td = data.trees[t];
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  const double h = model.config.dt;
+  dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;
+  if (!td.contact_shift.isZero(0.0)) correctTree(model, data, t);
   dynamics::treeKinematics(tree, td.state, kin);
   // The inputs' work, trapezoidal from the rates before the kick to those at the end: for a
   // constant effort ½ h τ·(ν + ν'), exactly what it adds to the kinetic energy when nothing else

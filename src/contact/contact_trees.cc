@@ -1,4 +1,8 @@
+// Articulated trees in the contact step (contact_trees.h, doc/contacts.md#trees): a tree's
+// energy and input power, its kick into the solver's view of it, and its impulses taken back.
 #include "contact/contact_trees.h"
+
+#include <algorithm>
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -13,6 +17,120 @@ Eigen::Matrix<double, 6, 1> twistOf(const Eigen::Matrix<double, 6, 6>& X, const 
   c = X * c;
   c.tail<3>() *= lambda;
   return c;
+}
+
+// The loads' generalized acceleration ν̇ = M⁻¹ (τ + Q) of tree t, into the kick scratch (with
+// the links' external moments f): what ABA gives at rest in the same pose, with no velocity
+// terms (they belong to the drift).
+void accelerationAtRest(const Model& model, Data& data, int t) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  const TreeData& td = data.trees[t];
+  TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  S.state = td.state;
+  S.state.omega_0 = cga::Bivelocity();
+  S.state.v.setZero();
+  S.still = S.kin;
+  for (auto& w : S.still.omega) w = cga::Bivelocity();
+  dynamics::externalMoments(tree, S.still, td.loads, S.f);
+  dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot,
+                            data.tree_scratch.algorithms);
+}
+
+// The world momentum floating tree t's step must end with, but for the contacts' external
+// impulses (the contacts stage adds them): the momentum now plus the loads' impulse h W over
+// the step; and its scale.
+void noteExpectedMomentum(const Model& model, Data& data, int t) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  TreeData& td = data.trees[t];
+  const double h = model.config.dt, lambda = model.lambda;
+  const TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  cga::Moment W;
+  double scale = 0.0;
+  for (int b = 0; b < tree.bodyCount(); ++b) {
+    W += S.kin.M_W[b].apply(S.f[b], lambda);
+    scale += tree.inertiaOf(b).mass() * S.kin.omega[b].linear(lambda).norm();
+  }
+  td.contact_momentum_expected = dynamics::worldMomentum(tree, S.kin) + W * h;
+  td.contact_momentum_scale = scale + h * W.force(lambda).norm();
+}
+
+// The scale of the energy guard's tolerance (contact_tree_end.cc): symplectic Euler's error over
+// one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
+void noteEnergySlack(const Model& model, Data& data, int t, const SolverTree& out) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  TreeData& td = data.trees[t];
+  const double h = model.config.dt;
+  TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  const double rate = std::max(out.nu.cwiseAbs().maxCoeff(),
+                               td.state.v.size() ? td.state.v.cwiseAbs().maxCoeff() : 0.0);
+  const double T = dynamics::kineticEnergy(tree, S.kin);
+  S.M_nu_dot.noalias() = out.M * S.nu_dot;
+  td.contact_energy_slack = h * h * S.nu_dot.dot(S.M_nu_dot) + (h * rate) * (h * rate) * T;
+}
+
+// With mimic joints the solver works on the independent coordinates ν_r: M_r = Gᵀ M G, and
+// each joint's twist goes into its coordinate's column with its multiplier (pointJacobian).
+void onIndependentCoordinates(Data& data, const dynamics::ArticulatedBody& tree, SolverTree& out) {
+  TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  if (tree.hasMimic()) {
+    dynamics::reduceVelocity(tree, out.nu, S.nu_dot);
+    out.nu = S.nu_dot;
+    dynamics::reduceMatrix(tree, out.M, S.M_r, data.tree_scratch.algorithms);
+    out.M = S.M_r;
+  }
+}
+
+// Per joint its column and multiplier, per coordinate its world twist (the floating base's six
+// first), per body its parent: what a contact point's Jacobian is made of.
+void makeCoordinates(const Model& model, const Data& data, const dynamics::ArticulatedBody& tree,
+                     SolverTree& out) {
+  const double lambda = model.lambda;
+  const TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  out.column.resize(tree.jointCount());
+  out.multiplier.resize(tree.jointCount());
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    out.column[k] = tree.reducedIndex(k);
+    out.multiplier[k] = tree.mimicMultiplier(k);
+  }
+  const int n = tree.velocityCount();
+  out.twist.resize(6, n);
+  out.floating = tree.floating();
+  if (tree.floating()) {
+    const Eigen::Matrix<double, 6, 6> X = dynamics::adjointMatrix(S.kin.M_W[0], lambda);
+    for (int j = 0; j < 6; ++j) {
+      out.twist.col(j) = X.col(j);
+      out.twist(3 + 0, j) *= lambda;
+      out.twist(3 + 1, j) *= lambda;
+      out.twist(3 + 2, j) *= lambda;
+    }
+  }
+  for (int k = 0; k < tree.jointCount(); ++k)
+    out.twist.col(tree.velocityIndex(k)) =
+        twistOf(dynamics::adjointMatrix(S.kin.M_W[k + 1], lambda), tree.screwInChild(k), lambda);
+  out.parent.resize(tree.bodyCount());
+  out.parent[0] = -1;
+  for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
+}
+
+// Every coordinate with a position limit: a row the solver keeps within it (its column
+// M⁻¹ e_k is made only when the row acts). With mimic joints the coordinates are the
+// independent joints', with their followers' limits mapped onto them. The rows keep their
+// storage from step to step.
+void makeLimitRows(const dynamics::ArticulatedBody& tree, const TreeData& td, SolverTree& out) {
+  std::size_t rows = 0;
+  for (const dynamics::JointCoordinate& c : tree.coordinates()) rows += c.hasLimits() ? 1 : 0;
+  out.limits.resize(rows);
+  rows = 0;
+  for (const dynamics::JointCoordinate& c : tree.coordinates()) {
+    if (!c.hasLimits()) continue;
+    SolverTree::LimitRow& r = out.limits[rows++];
+    r.index = tree.reducedIndex(c.joint);
+    r.q = td.state.q[c.joint];
+    r.lower = c.lower;
+    r.upper = c.upper;
+    r.y_lower = r.y_upper = r.p_lower = r.p_upper = 0.0;
+    r.a = 0.0;  // no column yet
+  }
 }
 
 }  // namespace
@@ -42,38 +160,16 @@ double treeInputPower(const Model& model, const Data& data, int t,
 
 void kickTree(const Model& model, Data& data, int t, SolverTree& out,
               dynamics::TreeKinematics& kicked) {
-  const TreeModel& tm = model.trees[t];
-  const dynamics::ArticulatedBody& tree = tm.body;
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
   TreeData& td = data.trees[t];
-  const double h = model.config.dt, lambda = model.lambda;
+  const double h = model.config.dt;
   TreeStageScratch::Kick& S = data.tree_scratch.kick;
 
   dynamics::treeKinematics(tree, td.state, S.kin);
   td.contact_energy_start = treeEnergy(model, t, S.kin);
   td.contact_power_start = treeInputPower(model, data, t, S.kin, td.state.v);
-
-  // M⁻¹ (τ + Q) is what ABA gives at rest in the same pose: no velocity terms (they belong to
-  // the drift).
-  S.state = td.state;
-  S.state.omega_0 = cga::Bivelocity();
-  S.state.v.setZero();
-  S.still = S.kin;
-  for (auto& w : S.still.omega) w = cga::Bivelocity();
-  dynamics::externalMoments(tree, S.still, td.loads, S.f);
-  dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot,
-                            data.tree_scratch.algorithms);
-  // The world momentum the step must end with, but for the contacts' external impulses (the
-  // contacts stage adds them): the momentum now plus the loads' impulse h W over the step.
-  if (tree.floating()) {
-    cga::Moment W;
-    double scale = 0.0;
-    for (int b = 0; b < tree.bodyCount(); ++b) {
-      W += S.kin.M_W[b].apply(S.f[b], lambda);
-      scale += tree.inertiaOf(b).mass() * S.kin.omega[b].linear(lambda).norm();
-    }
-    td.contact_momentum_expected = dynamics::worldMomentum(tree, S.kin) + W * h;
-    td.contact_momentum_scale = scale + h * W.force(lambda).norm();
-  }
+  accelerationAtRest(model, data, t);
+  if (tree.floating()) noteExpectedMomentum(model, data, t);
   out.nu.resize(tree.velocityCount());
   if (tree.floating()) {
     out.nu.head<3>() = td.state.omega_0.rot;
@@ -83,66 +179,11 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu += h * S.nu_dot;
 
   dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
-  // The scale of the energy guard's tolerance (contact_tree_end.cc): symplectic Euler's error over
-  // one step, ½ h² (ν̇ᵀ M ν̇ ∓ νᵀ (∂Q/∂q) ν), bounded by the kick's and the rates' terms.
-  {
-    const double rate = std::max(out.nu.cwiseAbs().maxCoeff(),
-                                 td.state.v.size() ? td.state.v.cwiseAbs().maxCoeff() : 0.0);
-    const double T = dynamics::kineticEnergy(tree, S.kin);
-    S.M_nu_dot.noalias() = out.M * S.nu_dot;
-    td.contact_energy_slack = h * h * S.nu_dot.dot(S.M_nu_dot) + (h * rate) * (h * rate) * T;
-  }
-  // With mimic joints the solver works on the independent coordinates ν_r: M_r = Gᵀ M G, and
-  // each joint's twist goes into its coordinate's column with its multiplier (pointJacobian).
-  if (tree.hasMimic()) {
-    dynamics::reduceVelocity(tree, out.nu, S.nu_dot);
-    out.nu = S.nu_dot;
-    dynamics::reduceMatrix(tree, out.M, S.M_r, data.tree_scratch.algorithms);
-    out.M = S.M_r;
-  }
+  noteEnergySlack(model, data, t, out);
+  onIndependentCoordinates(data, tree, out);
   out.llt.compute(out.M);
-  out.column.resize(tree.jointCount());
-  out.multiplier.resize(tree.jointCount());
-  for (int k = 0; k < tree.jointCount(); ++k) {
-    out.column[k] = tree.reducedIndex(k);
-    out.multiplier[k] = tree.mimicMultiplier(k);
-  }
-  const int n = tree.velocityCount();
-  out.twist.resize(6, n);
-  out.floating = tree.floating();
-  if (tree.floating()) {
-    const Eigen::Matrix<double, 6, 6> X = dynamics::adjointMatrix(S.kin.M_W[0], lambda);
-    for (int j = 0; j < 6; ++j) {
-      out.twist.col(j) = X.col(j);
-      out.twist(3 + 0, j) *= lambda;
-      out.twist(3 + 1, j) *= lambda;
-      out.twist(3 + 2, j) *= lambda;
-    }
-  }
-  for (int k = 0; k < tree.jointCount(); ++k)
-    out.twist.col(tree.velocityIndex(k)) =
-        twistOf(dynamics::adjointMatrix(S.kin.M_W[k + 1], lambda), tree.screwInChild(k), lambda);
-  out.parent.resize(tree.bodyCount());
-  out.parent[0] = -1;
-  for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
-  // Every coordinate with a position limit: a row the solver keeps within it (its column
-  // M⁻¹ e_k is made only when the row acts). With mimic joints the coordinates are the
-  // independent joints', with their followers' limits mapped onto them. The rows keep their
-  // storage from step to step.
-  std::size_t rows = 0;
-  for (const dynamics::JointCoordinate& c : tree.coordinates()) rows += c.hasLimits() ? 1 : 0;
-  out.limits.resize(rows);
-  rows = 0;
-  for (const dynamics::JointCoordinate& c : tree.coordinates()) {
-    if (!c.hasLimits()) continue;
-    SolverTree::LimitRow& r = out.limits[rows++];
-    r.index = tree.reducedIndex(c.joint);
-    r.q = td.state.q[c.joint];
-    r.lower = c.lower;
-    r.upper = c.upper;
-    r.y_lower = r.y_upper = r.p_lower = r.p_upper = 0.0;
-    r.a = 0.0;  // no column yet
-  }
+  makeCoordinates(model, data, tree, out);
+  makeLimitRows(tree, td, out);
 
   S.state = td.state;
   dynamics::expandVelocity(tree, out.nu, S.nu_dot);

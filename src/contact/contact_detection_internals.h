@@ -1,0 +1,105 @@
+// Contact detection's internals (contact_detection.h), shared by its files and by nothing else:
+// the collision cache (per shape its FCL geometry, plane points and bounding sphere) and the
+// narrow phases the broad phase hands its pairs to. FCL is included by the detection's files
+// only:
+//
+//   contact_collision_cache.cc   the cache: its shapes, made once per topology
+//   contact_detection.cc         detectContacts: the broad phase (sort and sweep)
+//   contact_ground_plane.cc      the ground plane against each shape's points
+//   contact_shape_pairs.cc       every other pair through FCL
+//   contact_overlap_warnings.cc  the overlaps a World reports when it is created
+#pragma once
+
+#include <fcl/geometry/collision_geometry.h>
+#include <fcl/narrowphase/contact.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_detection.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// Per shape of every body (body order, then the body's shape order): its FCL geometry, the
+/// points the ground plane is tested against, and a bounding sphere about the shape's origin.
+class CollisionCache {
+ public:
+  struct Shape {
+    int body = -1;
+    int shape = -1;
+    std::shared_ptr<fcl::CollisionGeometryd> geometry;
+    std::vector<Eigen::Vector3d> vertices_S;  ///< box corners, mesh hull vertices (plane test)
+    Eigen::Vector3d centre_S = Eigen::Vector3d::Zero();  ///< the bounding sphere's centre in S
+    double bound = 0.0;                                  ///< bounding radius about centre_S, m
+    /// The FCL geometry is this much larger on every side (0 for meshes), so that bodies
+    /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
+    double margin = 0.0;
+  };
+  /// A shape's bounding sphere in the sweep: its extent along x, and its centre's y and z and
+  /// its radius, so that the sweep rejects a pair from these alone (contiguous in memory).
+  struct Interval {
+    double lo, hi, y, z, bound;
+    int shape;
+    bool awake;  ///< a moving body that does not sleep (else static or asleep: inert)
+  };
+
+  bool built = false;
+  std::uint64_t topology = 0;
+  std::vector<Shape> shapes;
+  // Scratch, reused every step.
+  std::vector<Eigen::Isometry3d> pose_W;  ///< per shape, M_WS at the step's start
+  std::vector<Eigen::Vector3d> centre_W;  ///< per shape, its bounding sphere's centre then
+  std::vector<Interval> sweep;
+  std::vector<int> awake_at;  ///< the positions in `sweep` of the awake shapes, ascending
+  std::vector<fcl::Contactd> fcl_contacts;
+  std::vector<std::pair<Eigen::Vector3d, int>> plane_points;  ///< one mesh's, before reduction
+};
+
+namespace detail {
+
+/// The combined parameters of two surfaces (doc/contacts.md#surfaces-and-their-parameters): the
+/// smaller μ, the larger e — Gazebo's rule, so ROS URDFs behave as they do there; equal
+/// surfaces keep theirs.
+inline void combineSurfaces(const Model& model, const scene::SurfaceParameters& a,
+                            const scene::SurfaceParameters& b, Contact& c) {
+  const double mu0 = model.config.contact_mu, e0 = model.config.contact_restitution;
+  c.mu = std::min(a.mu.value_or(mu0), b.mu.value_or(mu0));
+  c.restitution = std::max(a.restitution.value_or(e0), b.restitution.value_or(e0));
+}
+
+/// Makes the cache's shapes for `model` (contact_collision_cache.cc).
+void buildCollisionCache(const Model& model, CollisionCache& cache);
+/// The pose of body j at the step's start.
+inline const cga::Motor& bodyPose(const Model& model, const Data& data, int j) {
+  const int i = model.moving_of_body[j];
+  return i >= 0 ? data.bodies[i].state.M_WB : model.scene.bodies[j].M_WB0;
+}
+
+/// Shape s's pose and bounding sphere's centre, world, at its body's pose of the step's start.
+inline void placeShape(const Model& model, const Data& data, CollisionCache& cache, std::size_t s) {
+  const CollisionCache::Shape& cs = cache.shapes[s];
+  const cga::Motor M_WS =
+      bodyPose(model, data, cs.body) * model.scene.bodies[cs.body].shapes[cs.shape].M_BS;
+  cache.pose_W[s] = M_WS.toIsometry(model.lambda);
+  cache.centre_W[s] = cache.pose_W[s] * cs.centre_S;
+}
+
+/// Appends the contacts of shapes [first, last) with the ground plane, at their placed poses;
+/// `fixed_margin` < 0: each body's travel over the step is its speculative margin. `asleep` as
+/// for detectContacts (contact_ground_plane.cc).
+void planeContacts(const Model& model, const Data& data, CollisionCache& cache, std::size_t first,
+                   std::size_t last, double fixed_margin, std::vector<Contact>& out,
+                   const std::vector<char>* asleep = nullptr);
+
+/// Appends the contacts of shapes s1 (side a) and s2 (side b) at their placed poses
+/// (contact_shape_pairs.cc).
+void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
+                  std::vector<Contact>& out);
+
+}  // namespace detail
+}  // namespace sim
+}  // namespace cga_rigid_sim

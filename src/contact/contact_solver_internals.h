@@ -1,0 +1,172 @@
+// The contact solver's internals (contact_solver.h), shared by its files and by nothing else:
+// the kernels a sweep runs per contact — the relative velocity at a contact point and an
+// impulse's application, written out in scalars — and the parts of a solve, each in the file
+// named for it:
+//
+//   contact_delassus.cc        the rows: basis, lever arms, Delassus blocks (prepareRows)
+//   contact_tree_jacobians.cc  a tree side's Jacobian J, its response M⁻¹ Jᵀ and their products
+//   contact_face_blocks.cc     the face blocks (SolverWork::Group)
+//   contact_islands.cc         the islands (SolverWork::Island)
+//   contact_row_targets.cc     each row's target: touch, gap, impact, compliant spring
+//   contact_velocity_sweep.cc  one Gauss–Seidel sweep of an island, friction included
+//   contact_tree_limits.cc     the joints' limit rows, swept with the contacts
+//   contact_velocity_solve.cc  solveVelocities: the islands' sweeps and their energy guard
+//   contact_positions.cc       solvePositions: the position correction
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "contact/contact_solver.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace detail {
+
+using Twist = SolverWork::Twist;
+
+inline bool onTree(const ContactRow& c) { return c.ta >= 0 || c.tb >= 0; }
+
+// ---- Per contact (the sweeps' whole cost) ----
+
+/// u = J ν of the contact's tree sides (ν or, for the position correction, pν; or their change
+/// over a sweep), J from contact_tree_jacobians.cc.
+template <Eigen::VectorXd SolverTree::*Nu>
+Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c) {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  if (c.ta >= 0) u.noalias() += c.ja * (trees[c.ta].*Nu);
+  if (c.tb >= 0) u.noalias() -= c.jb * (trees[c.tb].*Nu);
+  return u;
+}
+
+/// The impulse P (world axes), +P on side a and −P on side b, added to a tree side's ν or pν
+/// (Nu: nu or pnu; contact_tree_jacobians.cc).
+template <Eigen::VectorXd SolverTree::*Nu>
+void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c, const Eigen::Vector3d& P);
+
+/// The relative velocity of a's point against b's (slots a, b of `vel`; the dummy for none),
+/// written out in scalars: this and applyTo are the sweeps' whole cost, and the compiler
+/// vectorises Eigen's 3-vectors here into partial stores that stall the next load.
+__attribute__((always_inline)) inline Eigen::Vector3d relativeVelocity(
+    const std::vector<Twist>& vel, int a, int b, const ContactRow& c) {
+  const double* va = vel[a].v.data();
+  const double* wa = vel[a].w.data();
+  const double* vb = vel[b].v.data();
+  const double* wb = vel[b].w.data();
+  const double* ra = c.ra.data();
+  const double* rb = c.rb.data();
+  return {va[0] - vb[0] + (wa[1] * ra[2] - wa[2] * ra[1]) - (wb[1] * rb[2] - wb[2] * rb[1]),
+          va[1] - vb[1] + (wa[2] * ra[0] - wa[0] * ra[2]) - (wb[2] * rb[0] - wb[0] * rb[2]),
+          va[2] - vb[2] + (wa[0] * ra[1] - wa[1] * ra[0]) - (wb[0] * rb[1] - wb[1] * rb[0])};
+}
+
+/// v += m⁻¹ P, w += I⁻¹ M: an impulse P with moment M about the centre of mass.
+__attribute__((always_inline)) inline void kickNet(Twist& t, const SolverWork::Response& resp,
+                                                   const Eigen::Vector3d& P,
+                                                   const Eigen::Vector3d& M) {
+  const Eigen::Matrix3d& I = resp.inv_inertia;
+  double* v = t.v.data();
+  double* w = t.w.data();
+  v[0] += resp.inv_mass * P.x();
+  v[1] += resp.inv_mass * P.y();
+  v[2] += resp.inv_mass * P.z();
+  w[0] += I(0, 0) * M.x() + I(0, 1) * M.y() + I(0, 2) * M.z();
+  w[1] += I(1, 0) * M.x() + I(1, 1) * M.y() + I(1, 2) * M.z();
+  w[2] += I(2, 0) * M.x() + I(2, 1) * M.y() + I(2, 2) * M.z();
+}
+
+/// v += s m P, w += s I⁻¹ (r × P) for one side (s = ±1).
+__attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Response& resp,
+                                                const Eigen::Vector3d& r, double px, double py,
+                                                double pz) {
+  const Eigen::Vector3d P(px, py, pz);
+  kickNet(t, resp, P, r.cross(P));
+}
+
+/// The impulse P (world axes) at the contact, +P on a and −P on b, added to `vel` (the
+/// velocities or, for the position correction, the pseudo-velocities); a tree side's to its ν
+/// or pν.
+template <Eigen::VectorXd SolverTree::*Nu>
+__attribute__((always_inline)) inline void applyTo(
+    std::vector<Twist>& vel, const std::vector<SolverWork::Response>& response,
+    std::vector<SolverTree>& trees, int a, int b, const ContactRow& c, const Eigen::Vector3d& P) {
+  kick(vel[a], response[a], c.ra, P.x(), P.y(), P.z());
+  kick(vel[b], response[b], c.rb, -P.x(), -P.y(), -P.z());
+  if (onTree(c)) applyToTrees<Nu>(trees, c, P);
+}
+
+// ---- Per island ----
+
+/// Calls f(k, row) for the island's rows, in their order.
+template <class F>
+void forRows(const SolverWork& work, std::vector<ContactRow>& rows, const SolverWork::Island& I,
+             F&& f) {
+  for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
+    const SolverWork::Group& g = work.groups[work.island_group[q]];
+    for (int k = g.first; k < g.first + g.size; ++k) f(static_cast<std::size_t>(k), rows[k]);
+  }
+}
+
+/// Calls f(slot) for the island's bodies.
+template <class F>
+void forBodies(const SolverWork& work, const SolverWork::Island& I, F&& f) {
+  for (int q = I.first_body; q < I.first_body + I.bodies; ++q) f(work.island_body[q]);
+}
+
+/// Calls f(tree) for the island's trees.
+template <class F>
+void forTrees(const SolverWork& work, std::vector<SolverTree>& trees, const SolverWork::Island& I,
+              F&& f) {
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) f(trees[work.island_tree[q]]);
+}
+
+/// The largest change of a contact point's (pseudo-)velocity since vel_sweep, over the
+/// island's bodies.
+inline double bodyChange(const SolverWork& work, const SolverWork::Island& I) {
+  double change = 0.0;
+  for (int q = I.first_body; q < I.first_body + I.bodies; ++q) {
+    const int s = work.island_body[q];
+    change =
+        std::max(change, (work.vel[s].v - work.vel_sweep[s].v).norm() +
+                             work.response[s].reach * (work.vel[s].w - work.vel_sweep[s].w).norm());
+  }
+  return change;
+}
+
+// ---- The parts of a solve ----
+
+/// Tree sides (contact_tree_jacobians.cc): a side on a link of a tree takes the Jacobian of
+/// the contact point (c.ta/c.tb and c.ja/c.jb set, its body slot cleared); two links of one
+/// tree share ν, so side a keeps J_a − J_b.
+void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
+                   const Eigen::Vector3d& point_W, ContactRow& c);
+/// Adds the tree sides' J M⁻¹ Jᵀ to the Delassus block Kc (basis n, t1, t2; its upper triangle
+/// is kept) and to c.k_n, and keeps their responses c.wa, c.wb = M⁻¹ Jᵀ
+/// (contact_tree_jacobians.cc).
+void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc);
+
+/// The face blocks of the rows (contact_face_blocks.cc).
+void makeGroups(std::vector<ContactRow>& rows, SolverWork& work);
+/// The islands of the face blocks (contact_islands.cc).
+void makeIslands(const std::vector<ContactRow>& rows, int n_trees, SolverWork& work);
+
+/// Row k's target from the velocities before any contact impulse; `bounce`: impacts take
+/// their restitution (contact_row_targets.cc).
+void setTarget(const SolverSettings& st, const SolverWork& work,
+               const std::vector<SolverTree>& trees, bool bounce, std::size_t k, ContactRow& c);
+
+/// One Gauss–Seidel sweep of island I's contacts and its trees' limit rows; returns the
+/// largest change of a contact point's velocity (contact_velocity_sweep.cc).
+double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
+                   std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
+                   bool patch);
+
+/// One pass over tree t's limit rows, on ν (the velocity solve) or on pν (the position
+/// correction, on top of ν); returns the largest change of a rate (contact_tree_limits.cc).
+double sweepVelocityLimits(SolverTree& t, double h);
+double sweepPositionLimits(SolverTree& t, double h);
+
+}  // namespace detail
+}  // namespace sim
+}  // namespace cga_rigid_sim

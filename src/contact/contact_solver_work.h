@@ -1,0 +1,81 @@
+// The solver's working arrays (contact_solver.h): the bodies' velocities side by side and their
+// responses, the rows' slots, the face blocks (contact_face_blocks.cc), the islands
+// (contact_islands.cc) and the matrices of a resting island's direct solve (contact_resting.h).
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "cga_rigid_sim/math/union_find.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// The solver's working arrays, kept between steps so that a step allocates only when the
+/// problem grows. The sweeps read and write the bodies' velocities here, side by side, rather
+/// than in SolverBody (large: a pile's bodies would not stay in the cache); slot n (one past
+/// the last body) is an immovable dummy with zero velocity and response, which the rows'
+/// immovable and tree sides point to, so that a contact update has no branch per side.
+struct SolverWork {
+  struct Twist {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  };
+  struct Response {
+    double inv_mass = 0.0;
+    Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Zero();
+    /// The longest lever arm of its contacts, m: a change of w moves a contact point by up to
+    /// reach·|Δw|.
+    double reach = 0.0;
+  };
+  /// Per slot + the dummy: the (pseudo-)velocities; before the current sweep (the convergence
+  /// test); before any contact impulse (the energy guard starts again from them).
+  std::vector<Twist> vel, vel_sweep, vel_start;
+  std::vector<Response> response;  ///< per slot + the dummy
+  std::vector<int> a, b;           ///< per row: its slots, the dummy for none
+  /// A run of consecutive rows between the same two bodies with one normal (a face's corners,
+  /// at most four; a single row otherwise): their normal impulses are solved as one block.
+  struct Group {
+    int first = 0, size = 1;
+    /// The pseudo-inverse of the block's normal Delassus matrix (size × size, top left): four
+    /// coplanar corners leave one combination of impulses that moves nothing.
+    Eigen::Matrix4d pinv = Eigen::Matrix4d::Zero();
+  };
+  std::vector<Group> groups;
+  /// The islands: the bodies joined by their contacts (static bodies and the ground join
+  /// nothing; a tree joins every contact on any of its links), each a run of `groups` in
+  /// island_group and of slots in island_body, trees in island_tree. They are solved one
+  /// after the other, each until its own sweeps converge: an island's impulses do not depend
+  /// on bodies it does not touch, and a settled island stops sweeping while another lands.
+  struct Island {
+    int first_group = 0, groups = 0;
+    int first_body = 0, bodies = 0;
+    int first_tree = 0, trees = 0;
+  };
+  std::vector<Island> islands;
+  std::vector<int> island_group, island_body, island_tree;
+  math::UnionFind island_sets;                 ///< makeIslands: the islands as sets
+  std::vector<int> node_island, group_island;  ///< scratch of makeIslands
+  /// The direct solve of a resting island (contact_resting.h): at most 16 faces, so its
+  /// matrices have a fixed largest size and a step allocates nothing.
+  struct Resting {
+    static constexpr int kMax = 6 * 16;
+    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
+    using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1>;
+    struct Face {
+      Eigen::Vector3d c;     ///< the corners' centre, world
+      Eigen::Vector3d p[4];  ///< the corners from c
+      Eigen::Vector3d impulse[4];
+      Eigen::Matrix3d S_inv;   ///< (Σ |ρ|² 1 − ρ ρᵀ)⁻¹
+      int side[2] = {-1, -1};  ///< its bodies' places in the island (−1: immovable)
+      Eigen::Matrix<double, 6, 6> phi[2];
+    };
+    Face faces[16];
+    Matrix A;
+    Vector rhs, W;
+    Eigen::LDLT<Matrix> ldlt;
+  };
+  Resting resting;
+};
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

@@ -1,0 +1,84 @@
+// A contact's side on a link of an articulated tree (doc/contacts.md#trees): the link has no
+// velocity of its own, so the side reads and changes its tree's generalized velocity ν through
+// the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ (Δν = W P); its part
+// of the contact's Delassus block is J W.
+#include <vector>
+
+#include "contact/contact_solver_internals.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace detail {
+namespace {
+
+// The Jacobian of world point p on body b of tree T: column j is the point's velocity under a
+// unit rate of coordinate j, v_o + ω × p, for the coordinates that move b (the joints on its
+// path to the base, and the base's six).
+void pointJacobian(const SolverTree& T, int b, const Eigen::Vector3d& p,
+                   Eigen::Matrix<double, 3, Eigen::Dynamic>& J) {
+  J.setZero(3, T.M.cols());
+  const int base = T.floating ? 6 : 0;
+  // A joint's column goes to its coordinate's, times its multiplier (mimic joints; else itself).
+  for (int x = b; x > 0; x = T.parent[x]) {
+    const int j = base + x - 1;
+    J.col(T.column[x - 1]) +=
+        T.multiplier[x - 1] * (T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p));
+  }
+  for (int j = 0; j < base; ++j)
+    J.col(j) = T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p);
+}
+
+}  // namespace
+
+void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
+                   const Eigen::Vector3d& point_W, ContactRow& c) {
+  c.ta = c.a >= 0 ? bodies[c.a].tree : -1;
+  c.tb = c.b >= 0 ? bodies[c.b].tree : -1;
+  if (c.ta >= 0) {
+    pointJacobian(trees[c.ta], bodies[c.a].tree_body, point_W, c.ja);
+    c.a = -1;
+  }
+  if (c.tb >= 0) {
+    pointJacobian(trees[c.tb], bodies[c.b].tree_body, point_W, c.jb);
+    c.b = -1;
+    if (c.tb == c.ta) {
+      c.ja -= c.jb;
+      c.tb = -1;
+    }
+  }
+}
+
+void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc) {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  if (c.ta >= 0) {
+    c.wa = c.ja.transpose();
+    trees[c.ta].llt.solveInPlace(c.wa);
+    K.noalias() += c.ja * c.wa;
+  }
+  if (c.tb >= 0) {
+    c.wb = c.jb.transpose();
+    trees[c.tb].llt.solveInPlace(c.wb);
+    K.noalias() += c.jb * c.wb;
+  }
+  Eigen::Matrix3d B;
+  B << c.n, c.t1, c.t2;
+  Kc += B.transpose() * K * B;  // its upper triangle is kept
+  c.k_n += K * c.n;
+}
+
+template <Eigen::VectorXd SolverTree::*Nu>
+__attribute__((noinline)) void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c,
+                                            const Eigen::Vector3d& P) {
+  if (c.ta >= 0) (trees[c.ta].*Nu).noalias() += c.wa * P;
+  if (c.tb >= 0) (trees[c.tb].*Nu).noalias() -= c.wb * P;
+}
+
+// The impulses the velocity solve and the position correction apply.
+template void applyToTrees<&SolverTree::nu>(std::vector<SolverTree>&, const ContactRow&,
+                                            const Eigen::Vector3d&);
+template void applyToTrees<&SolverTree::pnu>(std::vector<SolverTree>&, const ContactRow&,
+                                             const Eigen::Vector3d&);
+
+}  // namespace detail
+}  // namespace sim
+}  // namespace cga_rigid_sim
