@@ -138,7 +138,7 @@ void contactSpeeds(const Model& model, const Data& data, SleepState& S) {
 
 // A tree with a link in contact: every link joins its island, and its speed is the tree's
 // fastest link's (a swinging arm keeps a robot awake whose feet rest). Timed efforts keep it
-// awake: they end by themselves.
+// awake: they end by themselves; so do servos (their references move with their controllers).
 void joinTrees(const Model& model, const Data& data, SleepState& S) {
   for (std::size_t t = 0; t < model.trees.size(); ++t) {
     const TreeModel& tm = model.trees[t];
@@ -149,7 +149,7 @@ void joinTrees(const Model& model, const Data& data, SleepState& S) {
     double speed = 0.0;
     for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b)
       speed = std::max(speed, linkSpeed(model, data, tm.movingOf(b)));
-    const bool blocked = !data.trees[t].timed.empty();
+    const bool blocked = !data.trees[t].timed.empty() || data.trees[t].loads.servos.active();
     for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
       const int i = tm.movingOf(b);
       S.speed[i] = speed;

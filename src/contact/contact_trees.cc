@@ -36,6 +36,47 @@ void accelerationAtRest(const Model& model, Data& data, int t) {
                             data.tree_scratch.algorithms);
 }
 
+// Servos in a contact step's kick, linearly implicit (doc/articulated.md#servos): their torque
+// s = s₀ − (h Kd + h² Kp) ν̇ at the kick's end, s₀ = Kp (r − q − h ν) + Kd (ṙ − ν), with
+// (M + h Kd + h² Kp) ν̇ = M ν̇₀ + s₀ (ν̇₀: the loads' acceleration without servos; on the
+// independent coordinates with mimic joints). The clamped efforts replace td.loads.effort, and
+// the kick then takes them as given efforts (accelerationAtRest again): stable at any gains,
+// exact for a clamped joint, booked as the actuators' work like every effort.
+void kickServos(const Model& model, Data& data, int t, const Eigen::MatrixXd& M) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  TreeData& td = data.trees[t];
+  const dynamics::JointServos& sv = td.loads.servos;
+  const double h = model.config.dt;
+  TreeStageScratch::Kick& S = data.tree_scratch.kick;
+  const int n = tree.jointCount();
+  S.servo_rhs.noalias() = M * S.nu_dot;
+  S.servo_A = M;
+  S.servo_s0.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const int i = tree.velocityIndex(k);
+    const double v = td.state.v[k];
+    S.servo_s0[k] = sv.torque(k, td.state.q[k] + h * v, v);
+    S.servo_rhs[i] += S.servo_s0[k];
+    S.servo_A(i, i) += h * sv.kd[k] + h * h * sv.kp[k];
+  }
+  if (tree.hasMimic()) {
+    dynamics::reduceMatrix(tree, S.servo_A, S.servo_A_r, data.tree_scratch.algorithms);
+    dynamics::reduceForce(tree, S.servo_rhs, S.servo_rhs_r);
+    S.servo_llt.compute(S.servo_A_r);
+    S.servo_llt.solveInPlace(S.servo_rhs_r);
+    dynamics::expandVelocity(tree, S.servo_rhs_r, S.servo_rhs);
+  } else {
+    S.servo_llt.compute(S.servo_A);
+    S.servo_llt.solveInPlace(S.servo_rhs);  // ν̇
+  }
+  for (int k = 0; k < n; ++k) {
+    const int i = tree.velocityIndex(k);
+    const double s = S.servo_s0[k] - (h * sv.kd[k] + h * h * sv.kp[k]) * S.servo_rhs[i];
+    const double limit = tree.joints()[k].effort_limit;
+    td.loads.effort[k] = std::clamp(td.loads.effort[k] + s, -limit, limit);
+  }
+}
+
 // The world momentum floating tree t's step must end with, but for the contacts' external
 // impulses (the contacts stage adds them): the momentum now plus the loads' impulse h W over
 // the step; and its scale.
@@ -167,8 +208,13 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
   dynamics::treeKinematics(tree, td.state, S.kin);
   td.contact_energy_start = treeEnergy(model, t, S.kin);
-  td.contact_power_start = treeInputPower(model, data, t, S.kin, td.state.v);
   accelerationAtRest(model, data, t);
+  dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
+  if (td.loads.servos.active()) {  // their efforts for the step, then the kick with them
+    kickServos(model, data, t, out.M);
+    accelerationAtRest(model, data, t);
+  }
+  td.contact_power_start = treeInputPower(model, data, t, S.kin, td.state.v);
   if (tree.floating()) noteExpectedMomentum(model, data, t);
   out.nu.resize(tree.velocityCount());
   if (tree.floating()) {
@@ -178,7 +224,6 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   out.nu.tail(tree.jointCount()) = td.state.v;
   out.nu += h * S.nu_dot;
 
-  dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
   noteEnergySlack(model, data, t, out);
   onIndependentCoordinates(data, tree, out);
   out.llt.compute(out.M);

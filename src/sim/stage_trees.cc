@@ -139,6 +139,10 @@ void integrateTrees(const Model& model, Data& data) {
     // Loads and impulses are in ν already after a contact kick: the step drifts.
     td.integrator->step(tm.body, contact_step ? td.drift_loads : td.loads, model.config.dt,
                         td.state);
+    // With servos, the effort the actuators applied (the contacts stage's kick has set it in a
+    // contact step): reported, and what a limited step's book counts as their work.
+    if (const Eigen::VectorXd* applied = td.integrator->lastEffort(); applied && !contact_step)
+      td.loads.effort = *applied;
     // The invariants of the step (doc/articulated.md#faults); a broken one undoes the step.
     bool broken = false;
     if (!td.state.allFinite()) {

@@ -50,6 +50,7 @@ class Explicit final : public TreeIntegrator {
   const TreeKinematics* lastKinematics() const override {
     return kin_at_state_ ? &end_kin_ : nullptr;
   }
+  const Eigen::VectorXd* lastEffort() const override { return servoed_ ? &effort_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override {
@@ -61,6 +62,8 @@ class Explicit final : public TreeIntegrator {
     setVelocity(tree, y0_, nu0_);
     stage_ = y0_;
     const double c[4] = {0.0, 0.5, 0.5, 1.0};
+    const double w[4] = {rk4_ ? 1.0 / 6 : 1.0, 2.0 / 6, 2.0 / 6, 1.0 / 6};
+    servoed_ = loads.servos.active();
     for (int i = 0; i < stages; ++i) {
       if (i > 0) {
         stage_.q = y0_.q + (c[i] * h) * kq_[i - 1];
@@ -71,11 +74,16 @@ class Explicit final : public TreeIntegrator {
       kq_[i] = stage_.v;
       km_[i] = motorRate(stage_.M_W0, stage_.omega_0);
       acceleration(tree, loads, stage_, ka_[i]);
+      if (servoed_) {  // the applied effort: the stages' weighted mean (what the step adds)
+        if (i == 0)
+          effort_ = w[0] * stage_effort_;
+        else
+          effort_ += w[i] * stage_effort_;
+      }
     }
     // The weighted sums of the stages first, then one addition to the state: a position or
     // rate rounded once per step instead of once per stage (over 1e5 steps those roundings,
     // correlated from step to step, would add up to ~1e-12).
-    const double w[4] = {rk4_ ? 1.0 / 6 : 1.0, 2.0 / 6, 2.0 / 6, 1.0 / 6};
     Coeffs dM{};
     dq_ = w[0] * kq_[0];
     dnu_ = w[0] * ka_[0];
@@ -189,6 +197,11 @@ class Explicit final : public TreeIntegrator {
                     Eigen::VectorXd& out) {
     Eigen::VectorXd& tau = tau_;
     tau = loads.effort;
+    if (loads.servos.active())  // explicit: the servo at this stage's state
+      for (int k = 0; k < tree.jointCount(); ++k)
+        tau[k] =
+            servoedEffort(loads.servos, k, tau[k], s.q[k], s.v[k], tree.joints()[k].effort_limit);
+    if (loads.servos.active()) stage_effort_ = tau;
     for (int k = 0; k < tree.jointCount(); ++k) {
       const TreeJoint& j = tree.joints()[k];
       tau[k] -= j.damping * s.v[k];
@@ -227,9 +240,12 @@ class Explicit final : public TreeIntegrator {
   bool kin_at_state_ = false;
   bool general_sized_ = false;  // the general path has run once (its scratch has its sizes)
   Eigen::VectorXd scratch_;
-  double dissipated_ = 0.0;  // what the joints took in the last step (lastDissipated)
-  std::vector<int> held_;    // joints stopped at a limit in the last step
-  Eigen::MatrixXd M_, Mr_;   // M, and M_r = Gᵀ M G with mimic joints
+  double dissipated_ = 0.0;       // what the joints took in the last step (lastDissipated)
+  Eigen::VectorXd effort_;        // with servos: the effort the step applied (lastEffort)
+  Eigen::VectorXd stage_effort_;  // with servos: the effort at the last stage
+  bool servoed_ = false;
+  std::vector<int> held_;   // joints stopped at a limit in the last step
+  Eigen::MatrixXd M_, Mr_;  // M, and M_r = Gᵀ M G with mimic joints
   Eigen::VectorXd nu_r_;
   tree_math::Cholesky llt_;
 };

@@ -79,11 +79,19 @@ inline void Midpoint::factorMass(const ArticulatedBody& tree, bool at_end_pose) 
 
 // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
 // rows; M's own factor when no joint is damped.
-inline const tree_math::Cholesky& Midpoint::iterationMatrix(const ArticulatedBody& tree, double h) {
-  if (!damped(tree)) return llt_;
+inline const tree_math::Cholesky& Midpoint::iterationMatrix(const ArticulatedBody& tree,
+                                                            const TreeLoads& loads, double h) {
+  const bool servos = loads.servos.active();
+  if (!damped(tree) && !servos) return llt_;
   Md_ = M_;
   for (int k = 0; k < tree.jointCount(); ++k)
     Md_(tree.velocityIndex(k), tree.velocityIndex(k)) += 0.5 * h * tree.joints()[k].damping;
+  // The servo's torque at the midpoint changes with ν̄ by −(½h kp + kd) per unit (q̄ = q + ½h ν̄):
+  // times ½h in the residual, ¼h² kp + ½h kd on the diagonal (doc/articulated.md (S1)).
+  if (servos)
+    for (int k = 0; k < tree.jointCount(); ++k)
+      Md_(tree.velocityIndex(k), tree.velocityIndex(k)) +=
+          0.25 * h * h * loads.servos.kp[k] + 0.5 * h * loads.servos.kd[k];
   if (!tree.hasMimic()) {
     llt_damped_.compute(Md_);
   } else {
@@ -91,6 +99,21 @@ inline const tree_math::Cholesky& Midpoint::iterationMatrix(const ArticulatedBod
     llt_damped_.compute(Mdr_);
   }
   return llt_damped_;
+}
+
+inline const Eigen::VectorXd& Midpoint::midpointEffort(const ArticulatedBody& tree,
+                                                       const TreeLoads& loads,
+                                                       const Eigen::VectorXd& q, double h,
+                                                       const Eigen::VectorXd& nu_all) {
+  if (!loads.servos.active()) return loads.effort;
+  const int n = tree.jointCount();
+  effort_.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const double v = nu_all[tree.velocityIndex(k)];
+    effort_[k] = servoedEffort(loads.servos, k, loads.effort[k], q[k] + 0.5 * h * v, v,
+                               tree.joints()[k].effort_limit);
+  }
+  return effort_;
 }
 
 // A step the iteration cannot solve (it stops converging when h times the tree's fastest
@@ -185,7 +208,8 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
     treeKinematics(tree, state, kin_);
     factorMass(tree);
   }
-  const tree_math::Cholesky& A = iterationMatrix(tree, h);
+  const tree_math::Cholesky& A = iterationMatrix(tree, loads, h);
+  servoed_ = loads.servos.active();
   y_.setZero(nv);
   r_.resize(nv);
   cga::Moment W;
@@ -219,10 +243,11 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
       externalMoments(tree, kin_, loads, f_ext_);
       momentumAndGradient(tree, kin_, f_ext_, pm_, &grad_, work_);
     }
+    const Eigen::VectorXd& effort = midpointEffort(tree, loads, state.q, h, nu_all);
     if (!mimic) {
-      r_.tail(n) = p_ + (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+      r_.tail(n) = p_ + (0.5 * h) * (grad_ + effort) - pm_.tail(n);
     } else {  // Gᵀ of the joints' residual, plus the reduced momenta
-      joint_r_ = (0.5 * h) * (grad_ + loads.effort) - pm_.tail(n);
+      joint_r_ = (0.5 * h) * (grad_ + effort) - pm_.tail(n);
       if (damped(tree))
         for (int k = 0; k < n; ++k)
           joint_r_[k] -= 0.5 * h * tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];
@@ -279,10 +304,11 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   if (!fused)
     for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
       load_power += tree_math::pairing(f_ext_[b], kin_.omega[b]);
-  const double power = load_power + loads.effort.dot(nu_all.tail(n));
+  const Eigen::VectorXd& effort = midpointEffort(tree, loads, state.q, h, nu_all);
+  const double power = load_power + effort.dot(nu_all.tail(n));
   const double T_start = T_;
   // p_{k+1} = p_k + h (∂L/∂q + Q + τ − C q̄̇) + 2y: the discrete momentum balance itself.
-  grad_ += loads.effort;
+  grad_ += effort;
   if (damped(tree))
     for (int k = 0; k < n; ++k)
       grad_[k] -= tree.joints()[k].damping * nu_all[tree.velocityIndex(k)];

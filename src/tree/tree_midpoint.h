@@ -34,6 +34,7 @@ class Midpoint final : public TreeIntegrator {
   bool lastSolved() const override { return solved_; }
   bool conservesMomentum() const override { return true; }
   const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
+  const Eigen::VectorXd* lastEffort() const override { return servoed_ ? &effort_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
             TreeState& state) override;
@@ -74,8 +75,14 @@ class Midpoint final : public TreeIntegrator {
     }
     return damped_;
   }
-  // M + ½hC, the iteration's matrix, factored.
-  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, double h);
+  // M + ½hC (+ ½h Kd + ¼h² Kp with servos), the iteration's matrix, factored.
+  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, const TreeLoads& loads,
+                                             double h);
+  // The effort the joints take at the midpoint (q + ½h ν̄, ν̄): the loads' own, or with servos
+  // effort plus servo, clamped, into effort_.
+  const Eigen::VectorXd& midpointEffort(const ArticulatedBody& tree, const TreeLoads& loads,
+                                        const Eigen::VectorXd& q, double h,
+                                        const Eigen::VectorXd& nu_all);
 
   // A substep of h, halved while the iteration cannot solve it.
   void robustSubstep(const ArticulatedBody& tree, const TreeLoads& loads, double h,
@@ -132,6 +139,8 @@ class Midpoint final : public TreeIntegrator {
   // Mimic joints: ν̄ and ν on every joint, the joints' residual or force before Gᵀ, and the
   // reduced M and M + ½hC (M_ and Md_ stay on every joint).
   Eigen::VectorXd nu_full_, joint_r_, grad_r_;
+  Eigen::VectorXd effort_;  // with servos: the effort applied at the midpoint (lastEffort)
+  bool servoed_ = false;    // servos acted in the last step
   Eigen::MatrixXd Mr_, Mdr_;
   cga::Moment Pi_;
   TreeState mid_;

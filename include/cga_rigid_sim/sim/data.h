@@ -18,6 +18,7 @@
 #include "cga_rigid_sim/body/loads.h"
 #include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/curved/curved_integrator.h"
+#include "cga_rigid_sim/math/cholesky.h"
 #include "cga_rigid_sim/sim/input/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/tree/tree_integrator.h"
@@ -171,6 +172,11 @@ struct TreeStageScratch {
     dynamics::BodyMoments f;
     Eigen::VectorXd nu_dot, M_nu_dot;
     Eigen::MatrixXd M_r;
+    // The servos' implicit kick (kickServos): its matrix, reduced with mimic joints, its
+    // right-hand side and solution, the servo torques at the kick's start.
+    Eigen::MatrixXd servo_A, servo_A_r;
+    Eigen::VectorXd servo_rhs, servo_rhs_r, servo_s0;
+    math::Cholesky servo_llt;
   } kick;
 };
 

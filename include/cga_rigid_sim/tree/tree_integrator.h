@@ -29,6 +29,7 @@
 #include "cga_rigid_sim/body/loads.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/tree/articulated_body.h"
+#include "cga_rigid_sim/tree/joint_servos.h"
 
 namespace cga_rigid_sim {
 namespace dynamics {
@@ -41,6 +42,9 @@ struct TreeLoads {
   std::vector<const Loads*> applied;
   /// Actuator effort per joint (size jointCount()), already clamped to the effort limit.
   Eigen::VectorXd effort;
+  /// Position and velocity servos (joint_servos.h): their torque adds to `effort`, the sum
+  /// clamped to the effort limit. Empty: none.
+  JointServos servos;
 };
 
 /// The external moments on every body at the poses of `kin`: gravity plus applied loads.
@@ -75,6 +79,10 @@ class TreeIntegrator {
   /// Valid until the next call on the integrator; describes that state only while it is
   /// unchanged.
   virtual const TreeKinematics* lastKinematics() const { return nullptr; }
+  /// The effort the joints' actuators applied in the last step when servos acted (effort plus
+  /// servo, clamped: the midpoint's at the midpoint, rk4's the stages' weighted mean), else
+  /// null (the loads' effort was applied as given).
+  virtual const Eigen::VectorXd* lastEffort() const { return nullptr; }
 };
 
 /// The names makeTreeIntegrator accepts (those of integrator.h that apply to trees).
