@@ -9,12 +9,13 @@ set(CGA_RIGID_SIM_CORE_FOLDERS
   curved       # bodies in curved space (1-up)
   scene        # what a scene holds: shapes, meshes, initial states, self-collision rules
   scene/urdf   # reading URDF and SRDF into a scene
+  control      # robot control without ROS: trajectories, splines, the trajectory controller, YAML
   contact      # detection, landing, rows, islands, the solver, resting, sleep, tree contacts
   sim          # the World: model, data, compile, the step's stages
   sim/input)   # inputs from outside: admission, the queue, efforts, wrenches
 # Test folders: math/ (header-only kernels) has tests but no sources; test/sim/ includes its
 # sub-folder input/, test/scene/ its sub-folder urdf/.
-set(CGA_RIGID_SIM_TEST_FOLDERS math cga body tree curved scene contact sim)
+set(CGA_RIGID_SIM_TEST_FOLDERS math cga body tree curved scene control contact sim)
 
 # cga_rigid_sim_core_sources(<out-var> <root> <folder>...): the .cc files of the folders.
 function(cga_rigid_sim_core_sources out root)
