@@ -12,7 +12,8 @@ set(CGA_RIGID_SIM_CORE_FOLDERS
   control      # robot control without ROS: trajectories, splines, the trajectory controller, YAML
   contact      # detection, landing, rows, islands, the solver, resting, sleep, tree contacts
   sim          # the World: model, data, compile, the step's stages
-  sim/input)   # inputs from outside: admission, the queue, efforts, wrenches
+  sim/input    # inputs from outside: admission, the queue, efforts, wrenches
+  sim/controllers)  # the World's joint controllers: loading, commands, the control stage
 # Test folders: math/ (header-only kernels) has tests but no sources; test/sim/ includes its
 # sub-folder input/, test/scene/ its sub-folder urdf/.
 set(CGA_RIGID_SIM_TEST_FOLDERS math cga body tree curved scene control contact sim)

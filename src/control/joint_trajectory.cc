@@ -27,7 +27,12 @@ Result<bool> checkValues(const std::vector<double>& values, std::size_t n, bool 
                              (required ? "" : " or none"));
   }
   for (std::size_t j = 0; j < n; ++j) {
-    if (!std::isfinite(values[j])) return refuse(indexed(field, j), "must be finite");
+    if (!std::isfinite(values[j]))  // the node's wording: "not finite (nan)"
+      return refuse(indexed(field, j), std::string("not finite (") +
+                                           (std::isnan(values[j]) ? "nan"
+                                            : values[j] > 0       ? "inf"
+                                                                  : "-inf") +
+                                           ")");
   }
   return true;
 }

@@ -34,6 +34,7 @@ Result<TreeData> makeTreeData(const Model& model, int t) {
   d.loads.gravity_W = model.scene.gravity_W;
   d.loads.applied.assign(tm.body.bodyCount(), nullptr);
   d.loads.effort = Eigen::VectorXd::Zero(n);
+  d.controller_effort = Eigen::VectorXd::Zero(n);
   d.held_effort = Eigen::VectorXd::Zero(n);
   d.clamped_steps.assign(n, 0);
   d.drift_loads.applied.assign(tm.body.bodyCount(), nullptr);

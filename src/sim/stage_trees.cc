@@ -105,8 +105,9 @@ void loadTrees(const Model& model, Data& data) {
   for (int t = 0; t < static_cast<int>(model.trees.size()); ++t) {
     const TreeModel& tm = model.trees[t];
     TreeData& td = data.trees[t];
-    // The actuators: held effort plus the timed ones, clamped to <limit effort>.
-    td.loads.effort = td.held_effort;
+    // The actuators: held effort plus the timed ones and the controllers', clamped to
+    // <limit effort> (a servo's torque adds in the tree step, clamped again with it).
+    td.loads.effort = td.held_effort + td.controller_effort;
     for (const ActiveEffort& a : td.timed) td.loads.effort[a.joint] += a.effort;
     for (int k = 0; k < tm.body.jointCount(); ++k) {
       const double limit = tm.body.joints()[k].effort_limit;

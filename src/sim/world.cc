@@ -12,6 +12,7 @@
 #include "contact/contact_scratch.h"
 #include "contact/self_collision_rules.h"
 #include "sim/coasting.h"
+#include "sim/controllers/controllers.h"
 #include "sim/curved_bodies.h"
 #include "sim/input/input_admission.h"
 #include "sim/input/joint_efforts.h"
@@ -63,6 +64,7 @@ void World::step() {
   const Model& m = impl_->model;
   Data& d = impl_->data;
   applyDueInputs(m, d);
+  controlJoints(m, d);
   updateLoads(m, d);
   loadTrees(m, d);
   if (!m.curved_space) solveContacts(m, d);  // no contacts in curved space (curved_bodies.h)
@@ -93,7 +95,10 @@ void World::clearWrenches() {
   impl_->data.queue.clearWrenches();
 }
 
-void World::reset() { resetBodies(impl_->model, impl_->data); }
+void World::reset() {
+  resetBodies(impl_->model, impl_->data);
+  resetControllers(impl_->model, impl_->data);
+}
 
 Result<BodyStateReport> World::getBodyState(const std::string& body) const {
   const int j = impl_->model.resolveBody(body);
@@ -165,6 +170,18 @@ Result<bool> World::setJointEfforts(const JointEffortInput& in) {
 }
 Result<bool> World::applyJointEffort(const TimedJointEffortInput& in) {
   return queueTimedJointEffort(impl_->model, impl_->data, in);
+}
+Result<std::vector<std::string>> World::loadControllers(const scene::ParamValue& controllers,
+                                                        const std::vector<std::string>& names,
+                                                        const scene::ParamValue& pid_gains) {
+  return sim::loadControllers(impl_->model, impl_->data, controllers, names, pid_gains);
+}
+Result<bool> World::commandTrajectory(const std::string& controller,
+                                      const control::JointTrajectory& trajectory) {
+  return queueTrajectory(impl_->model, impl_->data, controller, trajectory);
+}
+Result<bool> World::commandGroup(const std::string& controller, const std::vector<double>& values) {
+  return queueGroupCommand(impl_->model, impl_->data, controller, values);
 }
 std::vector<JointStateReport> World::jointStates() const {
   return jointStateReports(impl_->model, impl_->data);

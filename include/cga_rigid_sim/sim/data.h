@@ -19,6 +19,7 @@
 #include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/curved/curved_integrator.h"
 #include "cga_rigid_sim/math/cholesky.h"
+#include "cga_rigid_sim/sim/controllers/controllers_data.h"
 #include "cga_rigid_sim/sim/input/input_queue.h"
 #include "cga_rigid_sim/sim/model.h"
 #include "cga_rigid_sim/tree/tree_integrator.h"
@@ -101,6 +102,9 @@ struct TreeData {
   std::unique_ptr<dynamics::TreeIntegrator> integrator;
   dynamics::TreeLoads loads;        ///< gravity, the links' applied loads, this step's efforts
   Eigen::VectorXd held_effort;      ///< per joint: the last commanded effort (~joint_efforts)
+  /// Per joint: the controllers' feed-forward effort for this step (integral term, velocity
+  /// feed-forward, a group effort command), set by the control stage.
+  Eigen::VectorXd controller_effort;
   std::vector<ActiveEffort> timed;  ///< started timed efforts (~apply_joint_effort)
   std::vector<std::uint64_t> clamped_steps;  ///< per joint: steps its effort was clamped
   /// The contacts stage kicked the tree and applied its contact impulses this step: the tree
@@ -248,6 +252,8 @@ struct Data {
 
   /// Per tree (the Model's tree index).
   std::vector<TreeData> trees;
+  /// The joint controllers and their waiting commands (sim/controllers/).
+  ControllersData controllers;
   TreeStageScratch tree_scratch;  ///< the tree stages' work arrays
 };
 

@@ -59,7 +59,9 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/control/joint_trajectory.h"
 #include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/param_value.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/input/inputs.h"
 #include "cga_rigid_sim/sim/reports.h"
@@ -145,6 +147,23 @@ class World {
   Result<bool> applyJointEffort(const TimedJointEffortInput& in);
   /// Every joint of every tree, in scene order (parent first).
   std::vector<JointStateReport> jointStates() const;
+
+  /// Joint controllers in ros_control's vocabulary (doc/control.md). Loads the controllers
+  /// `names` (empty: every one) of `controllers` (the YAML's dictionary: controller name → its
+  /// type, joints, gains, constraints, …) with gazebo_ros_control's `pid_gains` (joint → p, i,
+  /// d, i_clamp; none: stiff defaults, each in a warning). All or nothing; returns the
+  /// warnings (keys not read, defaults chosen). Running controllers: data().controllers.
+  Result<std::vector<std::string>> loadControllers(const scene::ParamValue& controllers,
+                                                   const std::vector<std::string>& names,
+                                                   const scene::ParamValue& pid_gains);
+  /// A trajectory for a trajectory controller, taking effect at the step of its start_time
+  /// (0 or past: the next step), with joint_trajectory_controller's semantics (doc/control.md).
+  /// Refused, nothing queued, naming "<controller>/command.<field>" and the rule.
+  Result<bool> commandTrajectory(const std::string& controller,
+                                 const control::JointTrajectory& trajectory);
+  /// A group controller's command (positions, velocities or efforts, one per joint in its
+  /// `joints` order), from the next step on.
+  Result<bool> commandGroup(const std::string& controller, const std::vector<double>& values);
 
   /// Per moving body (scene order), then the scene total named "total" (see MomentumReport).
   std::vector<MomentumReport> momentum() const;

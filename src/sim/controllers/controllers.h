@@ -1,0 +1,48 @@
+// The World's joint controllers (doc/control.md#in-the-world): loading them, their commands, and
+// the control stage of the step. Internal to the sim layer (World's façade calls them).
+//
+// The control stage runs first in a step, after the due inputs: commands due at step k take
+// effect (in (step, arrival) order), then every controller sets its joints' servos for the step
+// from the state at t_k — a trajectory controller's desired state at t_k checked against the
+// actual one (its tolerances), its references at the step's middle r + ½h ṙ, ṙ + ½h r̈ (the
+// midpoint integrates the servo there); the integral term and feed-forward efforts go into
+// TreeData::controller_effort.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cga_rigid_sim/control/joint_trajectory.h"
+#include "cga_rigid_sim/result.h"
+#include "cga_rigid_sim/scene/param_value.h"
+#include "cga_rigid_sim/sim/data.h"
+#include "cga_rigid_sim/sim/model.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+
+/// Loads the controllers `names` (empty: all) of the ros_control dictionary `controllers`
+/// (controller name → its dictionary), with gazebo_ros_control's `pid_gains` (none: defaults, a
+/// warning each). All or nothing: a refusal leaves the data as it was. Returns the warnings.
+Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
+                                                 const scene::ParamValue& controllers,
+                                                 const std::vector<std::string>& names,
+                                                 const scene::ParamValue& pid_gains);
+/// Drops waiting commands; every controller holds the (reset) pose, integrals at zero.
+void resetControllers(const Model& model, Data& data);
+
+/// Validates a trajectory for a trajectory controller and queues it for the step of its
+/// start_time (0 or past: the next step; its points already past are then dropped). Errors:
+/// input "<controller>/command".
+Result<bool> queueTrajectory(const Model& model, Data& data, const std::string& controller,
+                             const control::JointTrajectory& trajectory);
+/// Validates a group controller's command (one value per joint, finite; efforts within
+/// max_force) and queues it for the next step.
+Result<bool> queueGroupCommand(const Model& model, Data& data, const std::string& controller,
+                               const std::vector<double>& values);
+
+/// The control stage (above).
+void controlJoints(const Model& model, Data& data);
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
