@@ -222,7 +222,8 @@ TrajectoryStatus TrajectoryController::update(double now, JointValues q, JointVa
     return status_;
   }
   const TrajectoryConstraints& c = options_.constraints;
-  const std::string at = " at t = " + number(now) + " s";
+  // The reasons are formatted only when a check fails: update() runs every step.
+  const auto at = [now] { return " at t = " + number(now) + " s"; };
   for (std::size_t j = 0; j < n; ++j) {
     const std::string& joint = options_.joint_names[j];
     const double e = s.error_positions[j], ev = s.error_velocities[j];
@@ -232,7 +233,7 @@ TrajectoryStatus TrajectoryController::update(double now, JointValues q, JointVa
       if (tol.trajectory > 0 && std::abs(e) > tol.trajectory) {
         abort(now, q,
               "path tolerance violated: joint '" + joint + "' position error " + number(e) +
-                  " exceeds constraints." + joint + ".trajectory = " + number(tol.trajectory) + at);
+                  " exceeds constraints." + joint + ".trajectory = " + number(tol.trajectory) + at());
         return update(now, q, qd);
       }
       continue;
@@ -251,7 +252,7 @@ TrajectoryStatus TrajectoryController::update(double now, JointValues q, JointVa
                                          " exceeds constraints.stopped_velocity_tolerance = " +
                                          number(c.stopped_velocity_tolerance);
       abort(now, q,
-            "goal tolerance violated: joint '" + joint + "' " + what + at + ", goal_time " +
+            "goal tolerance violated: joint '" + joint + "' " + what + at() + ", goal_time " +
                 number(c.goal_time) + " s after the end at " + number(end) + " s");
       return update(now, q, qd);
     }
