@@ -4,6 +4,9 @@
 //   applyDueInputs   inputs due at step k, in (step, arrival) order: an impulse makes Ω_B jump
 //                    by (I∧n)⁻¹ T_imp, doc/conventions.md (E17) (the pose does not jump; the
 //                    body's integrator is reset), a wrench starts (stage_inputs.cc);
+//   controlJoints    controller commands due at k take effect; every controller sets its
+//                    joints' servos and feed-forward efforts (sim/controllers/stage_control.cc,
+//                    declared in sim/controllers/controllers.h);
 //   updateLoads      each body's loads become gravity plus its active wrenches, summed in the
 //                    order they started — rebuilt only for bodies whose set changed
 //                    (stage_loads.cc);
