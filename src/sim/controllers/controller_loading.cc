@@ -179,6 +179,7 @@ void resetControllers(const Model& model, Data& data) {
   data.controllers.waiting.clear();
   for (ControllerData& cd : data.controllers.running) {
     if (cd.tree < 0) continue;
+    data.trees[cd.tree].loads.servos.resize(model.trees[cd.tree].body.jointCount());
     for (control::PidIntegral& i : cd.integral) i.reset();
     start(model, data, cd);
   }

@@ -37,7 +37,15 @@ void applyDueCommands(const Model& model, Data& data) {
   cs.waiting.erase(cs.waiting.begin(), cs.waiting.begin() + static_cast<std::ptrdiff_t>(taken));
 }
 
-// One controller's servos and feed-forward efforts for the step.
+// The joint's <limit velocity> (rad/s or m/s; +∞ when absent).
+double velocityLimit(const Model& model, int tree, int joint) {
+  return model.scene.joints[model.trees[tree].scene_joint[joint]].limits.velocity;
+}
+
+// One controller's servos and feed-forward efforts for the step. <limit velocity> is enforced
+// on the commands as joint_limits_interface's saturation does: a velocity reference is clamped
+// to ±limit, and a group position command is approached at most at the limit (the reference
+// moves by at most limit·h per step from the servo's last one).
 void driveJoints(const Model& model, Data& data, ControllerData& cd) {
   TreeData& td = data.trees[cd.tree];
   const double h = model.config.dt, now = static_cast<double>(data.step_count) * h;
@@ -47,13 +55,17 @@ void driveJoints(const Model& model, Data& data, ControllerData& cd) {
   for (std::size_t j = 0; j < cd.joints.size(); ++j) {
     const int k = cd.joints[j];
     const control::ServoGains& g = cd.gains[j];
+    const double v_max = velocityLimit(model, cd.tree, k);
     double r = q[k], r_dot = v[k], error = 0.0, effort = 0.0;  // references r at t_k + ½h
     switch (cd.config.type) {
-      case control::ControllerType::kGroupPosition:
-        r = cd.command[j];
+      case control::ControllerType::kGroupPosition: {
+        // From the last reference (the pose at load before the first step), toward the command.
+        const double last = servos.kp[k] > 0.0 ? servos.position[k] : q[k];
+        r = std::clamp(cd.command[j], last - v_max * h, last + v_max * h);
         r_dot = 0.0;
         error = r - q[k];
         break;
+      }
       case control::ControllerType::kGroupVelocity:
         r_dot = cd.command[j];
         break;
@@ -67,6 +79,7 @@ void driveJoints(const Model& model, Data& data, ControllerData& cd) {
         error = s.position - q[k];
       }
     }
+    r_dot = std::clamp(r_dot, -v_max, v_max);
     servos.kp[k] = g.kp;
     servos.kd[k] = g.kd;
     servos.position[k] = r;

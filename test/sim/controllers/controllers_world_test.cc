@@ -100,6 +100,30 @@ TEST(ControllersWorld, GroupPositionServoRestsAtTheStaticEquilibrium) {
   }
 }
 
+// <limit velocity> (joint1: 1.71 rad/s) holds a far position command to a ramp at the limit:
+// half a second after the command the joint has gone limit·t (less the servo's lag), and it
+// never moves faster than the limit by more than the servo's overshoot.
+TEST(ControllersWorld, VelocityLimitSaturatesAPositionCommand) {
+  auto world = arm();
+  ParamValue::Map yaml;
+  yaml["arm_controller"] = controller("position_controllers/JointGroupPositionController");
+  ASSERT_TRUE(world->loadControllers(ParamValue(yaml), {}, pidGains(4000.0, 150.0)).ok());
+  std::vector<double> r(7, 0.0);
+  r[0] = 2.5;  // joint1 from 0 to 2.5 rad: 1.46 s at the limit
+  ASSERT_TRUE(world->commandGroup("arm_controller", r).ok());
+  double fastest = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    world->step();
+    fastest = std::max(fastest, std::abs(world->data().trees[0].state.v[0]));
+  }
+  const double v_max = 1.71, t = 0.5;
+  // The servo follows a ramp with a constant lag ≈ kd·v/kp (0.06 rad here at I ≈ 1 kg m²,
+  // less once the transient has passed); 0.1 rad bounds it.
+  EXPECT_NEAR(world->data().trees[0].state.q[0], v_max * t, 0.1);
+  EXPECT_LT(fastest, 1.05 * v_max);  // ζ ≈ 1: at most a few per cent overshoot
+  EXPECT_GT(fastest, 0.9 * v_max);   // and it does reach the limit
+}
+
 control::JointTrajectory reach(double start_time) {
   control::JointTrajectory t;
   t.joint_names = kJoints;
