@@ -44,14 +44,14 @@ void wakeIsland(const Model& model, Data& data, SleepState& S, int label) {
 }
 
 // Whether sleeping tree link i's tree was changed from outside: a velocity (an impulse on a
-// link), efforts other than those it fell asleep under, timed efforts.
+// link), efforts other than those it fell asleep under, timed efforts, a pose set from outside.
 bool treeChanged(const Model& model, const Data& data, int i) {
   const int t = model.tree_of_moving[i];
   if (t < 0) return false;
   const TreeData& td = data.trees[t];
   return !td.state.v.isZero(0.0) || !td.state.omega_0.rot.isZero(0.0) ||
          !td.state.omega_0.trans.isZero(0.0) || !td.timed.empty() ||
-         td.held_effort != td.asleep_effort;
+         td.held_effort != td.asleep_effort || td.state.q != td.asleep_q;
 }
 
 // The fastest point of tree link i within its own size, |v| + |ω| ℓ with ℓ twice its largest
@@ -80,6 +80,7 @@ void putTreeToSleep(const Model& model, Data& data, int t) {
   td.contact_kicked = false;
   td.asleep = true;
   td.asleep_effort = td.held_effort;
+  td.asleep_q = td.state.q;
   td.integrator->reset();
   writeTreeBodies(model, data, t);
 }

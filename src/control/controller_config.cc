@@ -225,10 +225,12 @@ Result<ControllerConfig> readController(const std::string& name, const ParamValu
       if (!g) return g.failure();
       c.gains = std::move(*g);
     } else if (pid && key == "velocity_ff") {
+      // (A copy, not the structured binding `key`: C++17 lambdas cannot capture those.)
+      const Reader sub = r.sub(key);
       auto f = readPerJoint<double>(
-          value, r.sub(key), c.joints,
-          [&r, &key](const ParamValue& x, const Reader&, const std::string& joint) {
-            return r.sub(key).number(x, joint, false);
+          value, sub, c.joints,
+          [&sub](const ParamValue& x, const Reader&, const std::string& joint) {
+            return sub.number(x, joint, false);
           });
       if (!f) return f.failure();
       c.velocity_ff = std::move(*f);

@@ -2,6 +2,7 @@
 #include "cga_rigid_sim/body/impulse.h"
 #include "cga_rigid_sim/sim/stages.h"
 #include "sim/coasting.h"
+#include "sim/controllers/controllers.h"
 #include "sim/curved_bodies.h"
 #include "sim/input/wrench_schedule.h"
 
@@ -44,6 +45,20 @@ void applyImpulseNow(const Model& model, Data& data, const QueuedInput& in) {
   b.integrator->reset();  // its caches describe the motion before the jump
 }
 
+// A joint's position and rate set from outside: a state edit (the integrator restarts, mimic
+// joints follow, the links' states are rewritten), and the controllers of the tree hold the new
+// positions (else their servos would pull the joint back to where it was).
+void setJointNow(const Model& model, Data& data, const QueuedInput& in) {
+  const dynamics::ArticulatedBody& tree = model.trees[in.tree].body;
+  TreeData& td = data.trees[in.tree];
+  td.state.q[in.joint] = in.position;
+  td.state.v[in.joint] = in.velocity;
+  dynamics::applyMimic(tree, td.state);
+  td.integrator->reset();
+  writeTreeBodies(model, data, in.tree);
+  holdControllersAt(model, data, in.tree);
+}
+
 }  // namespace
 
 void applyDueInputs(const Model& model, Data& data) {
@@ -54,6 +69,8 @@ void applyDueInputs(const Model& model, Data& data) {
       applyImpulseNow(model, data, *in);
     } else if (in->kind == QueuedInput::Kind::kHeldEffort) {
       data.trees[in->tree].held_effort[in->joint] = in->effort;
+    } else if (in->kind == QueuedInput::Kind::kJointState) {
+      setJointNow(model, data, *in);
     } else if (!mayStart(model, data, *in, k)) {
       continue;  // past a bound on active inputs: refused, counted in data.start_refusals
     } else if (in->kind == QueuedInput::Kind::kTimedEffort) {

@@ -168,6 +168,9 @@ std::optional<Error> World::lastTreeFault() const {
 Result<bool> World::setJointEfforts(const JointEffortInput& in) {
   return queueJointEfforts(impl_->model, impl_->data, in);
 }
+Result<bool> World::setJointState(const JointStateInput& in) {
+  return queueJointState(impl_->model, impl_->data, in);
+}
 Result<bool> World::applyJointEffort(const TimedJointEffortInput& in) {
   return queueTimedJointEffort(impl_->model, impl_->data, in);
 }

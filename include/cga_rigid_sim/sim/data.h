@@ -139,6 +139,7 @@ struct TreeData {
   /// command wakes it).
   bool asleep = false;
   Eigen::VectorXd asleep_effort;
+  Eigen::VectorXd asleep_q;  ///< the pose it fell asleep at (a pose set from outside wakes it)
   /// The state before this step (joint positions and rates, the floating root's motor and
   /// bivelocity), for undoing a step that breaks an invariant (TreeFaults).
   Eigen::VectorXd q_before, v_before;

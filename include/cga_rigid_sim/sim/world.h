@@ -143,6 +143,8 @@ class World {
   /// Articulated trees (doc/articulated.md). Joint names are the URDF's.
   /// Validates and queues held efforts (JointEffortInput: the rules there).
   Result<bool> setJointEfforts(const JointEffortInput& in);
+  /// Validates and queues joint positions and rates set by name (JointStateInput: the rules).
+  Result<bool> setJointState(const JointStateInput& in);
   /// Validates and queues a timed effort on one joint.
   Result<bool> applyJointEffort(const TimedJointEffortInput& in);
   /// Every joint of every tree, in scene order (parent first).

@@ -41,6 +41,11 @@ Result<bool> queueTrajectory(const Model& model, Data& data, const std::string& 
 Result<bool> queueGroupCommand(const Model& model, Data& data, const std::string& controller,
                                const std::vector<double>& values);
 
+/// The controllers of tree `t` hold its joints where they are now (after a state edit): a
+/// trajectory controller stops and holds, a group position controller's command becomes the
+/// position, its servo's reference too; integrals restart.
+void holdControllersAt(const Model& model, Data& data, int t);
+
 /// The control stage (above).
 void controlJoints(const Model& model, Data& data);
 

@@ -91,6 +91,21 @@ void driveJoints(const Model& model, Data& data, ControllerData& cd) {
 
 }  // namespace
 
+void holdControllersAt(const Model& model, Data& data, int t) {
+  const double now = static_cast<double>(data.step_count) * model.config.dt;
+  TreeData& td = data.trees[t];
+  for (ControllerData& cd : data.controllers.running) {
+    if (cd.tree != t) continue;
+    if (cd.trajectory) cd.trajectory->hold(now, td.state.q);
+    for (std::size_t j = 0; j < cd.joints.size(); ++j) {
+      const int k = cd.joints[j];
+      if (cd.config.type == control::ControllerType::kGroupPosition) cd.command[j] = td.state.q[k];
+      td.loads.servos.position[k] = td.state.q[k];
+      cd.integral[j].reset();
+    }
+  }
+}
+
 void controlJoints(const Model& model, Data& data) {
   if (data.controllers.running.empty()) return;
   applyDueCommands(model, data);

@@ -16,6 +16,8 @@ namespace sim {
 
 Result<bool> queueJointEfforts(const Model& model, Data& data, const JointEffortInput& in);
 Result<bool> queueTimedJointEffort(const Model& model, Data& data, const TimedJointEffortInput& in);
+/// Joint states set from outside (joint_state_edit.cc; JointStateInput: the rules there).
+Result<bool> queueJointState(const Model& model, Data& data, const JointStateInput& in);
 /// Every joint of every tree, trees in model order, joints parent first.
 std::vector<JointStateReport> jointStateReports(const Model& model, const Data& data);
 

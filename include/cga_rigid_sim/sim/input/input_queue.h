@@ -34,8 +34,9 @@ constexpr std::uint64_t kUntilCleared = std::numeric_limits<std::uint64_t>::max(
 /// frame): F and couple are in world axes and `point` is the world point; it becomes a
 /// material point of B only when the input takes effect, at the pose of that step.
 struct QueuedInput {
-  /// kHeldEffort sets a joint's held effort; kTimedEffort starts an effort for `steps` steps.
-  enum class Kind { kWrench, kImpulse, kHeldEffort, kTimedEffort };
+  /// kHeldEffort sets a joint's held effort; kTimedEffort starts an effort for `steps` steps;
+  /// kJointState sets a joint's position and rate.
+  enum class Kind { kWrench, kImpulse, kHeldEffort, kTimedEffort, kJointState };
   Kind kind = Kind::kWrench;
   std::uint64_t step = 0;     ///< the step it takes effect at (start of the step)
   std::uint64_t arrival = 0;  ///< arrival number (tie-break within a step)
@@ -48,6 +49,7 @@ struct QueuedInput {
   int tree = -1;            ///< efforts: the tree and the joint index in it
   int joint = -1;
   double effort = 0.0;  ///< N m or N
+  double position = 0.0, velocity = 0.0;  ///< kJointState: rad (m) and rad/s (m/s)
 };
 
 class InputQueue {

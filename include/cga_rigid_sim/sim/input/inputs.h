@@ -65,5 +65,19 @@ struct TimedJointEffortInput {
   double duration = 0.0;
 };
 
+/// Joint positions and rates set by joint name (the node's ~set_joint_state), at the step of
+/// `stamp` (0 = the next step), as a state edit: the tree's integrator restarts from the new
+/// state, mimic joints follow their leaders, and the controllers driving those joints hold the
+/// new positions. Refused as a whole, nothing applied, for: lengths that differ (velocities may
+/// be empty: 0), an unknown or repeated joint, a mimic joint (set its leader), a value not
+/// finite, a position outside the joint's limits, a rate beyond its <limit velocity>, a stamp
+/// already past. Fields set_joint_state.{name, position, velocity, stamp}.
+struct JointStateInput {
+  std::vector<std::string> names;
+  std::vector<double> positions;   ///< rad or m
+  std::vector<double> velocities;  ///< rad/s or m/s; empty = all 0
+  double stamp = 0.0;              ///< sim time, s; 0 = the next step
+};
+
 }  // namespace sim
 }  // namespace cga_rigid_sim
