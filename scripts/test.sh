@@ -5,7 +5,8 @@
 #
 # Each registered test target (gtest binary test_<layer>, rostest test/ros/<name>.test) runs
 # with a time limit (CGA_RIGID_SIM_TEST_TIMEOUT seconds, default 600); then each fuzz target of
-# fuzz/ runs for CGA_RIGID_SIM_FUZZ_SECONDS (default 45; scripts/fuzz.sh, doc/fuzzing.md).
+# fuzz/ runs for CGA_RIGID_SIM_FUZZ_SECONDS (default 30; scripts/fuzz.sh, doc/fuzzing.md), and
+# test_scene_asan (built with them) runs.
 # JUnit results go to build/ws/build/test_results/; the last line printed is "N passed,
 # N failed" (test cases). Exit status is non-zero if a test failed, crashed, timed out or
 # produced no result, or if no test ran at all.
@@ -19,8 +20,9 @@ source scripts/build_lock.sh
 take_build_lock test.sh
 
 bash scripts/install_deps.sh
-# The peer engines' runners are benchmarks only (scripts/bench.sh builds them): skip them here.
-bash scripts/build.sh --tests -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=OFF "$@"
+# Benchmarks are not tests (scripts/bench.sh builds and runs them; scripts/run.sh's build has
+# them): skip them here.
+bash scripts/build.sh --tests -DCGA_RIGID_SIM_BUILD_BENCHMARKS=OFF -DCGA_RIGID_SIM_BUILD_PEER_BENCHMARKS=OFF "$@"
 
 # Environment: Debian python first, the workspace's devel space, a private ROS home, and a
 # master URI that can only be local (rostest starts its own master on a free port).
@@ -81,16 +83,27 @@ end=$(date +%s)
 echo "test.sh: ${#targets[@]} test targets ran in $((end - start)) s"
 
 # The fuzz targets (doc/fuzzing.md), a short run each: one test case per target, passed when
-# the run found no crash, leak or sanitizer report. 45 s each keeps the fuzz build (about 3 min
-# on 2 cores from a cold cache) and the four runs within 6 minutes. CGA_RIGID_SIM_FUZZ_SECONDS=0
-# skips them.
-fuzz_seconds="${CGA_RIGID_SIM_FUZZ_SECONDS:-45}"
+# the run found no crash, leak or sanitizer report; and test_scene_asan, the scene layer's
+# bad-input tests on the core the fuzz build instruments (AddressSanitizer, LeakSanitizer,
+# UBSan). CGA_RIGID_SIM_FUZZ_SECONDS=0 skips both.
+fuzz_seconds="${CGA_RIGID_SIM_FUZZ_SECONDS:-30}"
 if [[ $fuzz_seconds != 0 ]]; then
-  echo "test.sh: ---- fuzz targets, $fuzz_seconds s each"
+  echo "test.sh: ---- fuzz targets, $fuzz_seconds s each, and test_scene_asan"
   rc=0
   bash scripts/fuzz.sh --seconds "$fuzz_seconds" --junit "$results/cga_rigid_sim" || rc=$?
   if [[ $rc -ne 0 ]] && ! compgen -G "$results/cga_rigid_sim/fuzz-*.xml" >/dev/null; then
     write_failure fuzz "scripts/fuzz.sh exited with status $rc"
+  fi
+  asan_test="$root/build/fuzz/test_scene_asan"
+  if [[ -x $asan_test ]]; then
+    rc=0
+    (cd "$root" && timeout --kill-after=30 "$timeout_s" "$asan_test" \
+      --gtest_output="xml:$results/cga_rigid_sim/gtest-test_scene_asan.xml") || rc=$?
+    if [[ $rc -ne 0 ]] && [[ ! -s $results/cga_rigid_sim/gtest-test_scene_asan.xml ]]; then
+      write_failure test_scene_asan "test_scene_asan exited with status $rc"
+    fi
+  else
+    write_failure test_scene_asan "build/fuzz/test_scene_asan was not built"
   fi
 fi
 
