@@ -11,6 +11,7 @@
 
 #include "cga_rigid_sim/format.h"
 #include "cga_rigid_sim/ros/conversions.h"
+#include "cga_rigid_sim/sim/data.h"
 
 namespace cga_rigid_sim {
 namespace node {
@@ -45,6 +46,10 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       paused_(params.paused) {
   // The configuration is said before anything is advertised: a client that sees a service up
   // has seen these lines too.
+  // A joint state controller publishes /joint_states at its own rate (startControllerTopics).
+  bool joint_state_controller = false;
+  for (const auto& c : world_->data().controllers.running)
+    joint_state_controller |= c.config.type == control::ControllerType::kJointState;
   const std::string clock = !params_.publish_clock ? "off"
                             : params_.clock_rate > 0.0
                                 ? "at " + std::to_string(params_.clock_rate) + " Hz"
@@ -54,8 +59,8 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       "contacts%s at %g Hz; /clock %s%s",
       world_->config().dt, world_->config().threads, world_->config().threads == 1 ? "" : "s",
       params_.real_time_factor, params_.real_time_factor == 0.0 ? " (as fast as possible)" : "",
-      has_joints_ ? " and /joint_states" : "", params_.publish_rate, clock.c_str(),
-      paused_ ? "; paused (call ~unpause, or ~step)" : "");
+      has_joints_ && !joint_state_controller ? " and /joint_states" : "", params_.publish_rate,
+      clock.c_str(), paused_ ? "; paused (call ~unpause, or ~step)" : "");
 
   const sim::WorldConfig& config = world_->config();
   const std::string plane =
@@ -119,6 +124,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
   services_.push_back(
       pnh_.advertiseService("apply_joint_effort", &Simulator::onApplyJointEffort, this));
+  startControllerTopics();
 }
 
 }  // namespace node

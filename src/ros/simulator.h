@@ -2,8 +2,8 @@
 // (doc/node.md has the interface tables). Thin: every callback converts a
 // message to the core's types (conversions.h), calls World, and converts the answer back.
 // Its rooms: simulator.cc (construction), simulator_loop.cc (the main loop),
-// simulator_publishers.cc (outputs), simulator_inputs.cc (input topics, refusals) and
-// simulator_services.cc (services).
+// simulator_publishers.cc (outputs), simulator_inputs.cc (input topics, refusals),
+// simulator_services.cc (services) and simulator_controllers.cc (the controllers' topics).
 //
 // Threading: one thread. The main loop steps the World and services the callback queue
 // between steps (waiting on it until the next real-time deadline, or every kServiceInterval
@@ -31,13 +31,16 @@
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
+#include <std_msgs/Float64MultiArray.h>
 #include <std_srvs/Empty.h>
 #include <tf2_msgs/TFMessage.h>
+#include <trajectory_msgs/JointTrajectory.h>
 
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -98,6 +101,22 @@ class Simulator {
   void noteTreeFaults();
   /// Called by every service: the wall time it took must not count against real time.
   void markDisturbed() { disturbed_ = true; }
+
+  // ---- controllers (simulator_controllers.cc, doc/node.md#controllers) ----
+  /// Per running controller: `<name>/command` subscribed; for a trajectory controller
+  /// `<name>/state` advertised with its state_publish_rate; for a joint state controller
+  /// /joint_states at its publish_rate instead of at the output ticks.
+  void startControllerTopics();
+  /// /joint_states at the current step, at most once per stamp.
+  void publishJointStates();
+  /// After each step: the trajectory controllers' states at their ticks (`always`: at the
+  /// current step whatever the ticks, once per stamp), their aborts logged, and the commands the
+  /// World refused at their step counted.
+  void publishControllerStates(bool always = false);
+  void onTrajectoryCommand(const std::string& controller,
+                           const trajectory_msgs::JointTrajectory::ConstPtr& msg);
+  void onGroupCommand(const std::string& controller,
+                      const std_msgs::Float64MultiArray::ConstPtr& msg);
 
   // ---- callbacks ----
   void onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg);
@@ -164,6 +183,20 @@ class Simulator {
   MarkerReferences marker_refs_;  ///< the arrows' scales in use (grow with the motion seen)
   std::vector<::ros::Subscriber> subscribers_;
   std::vector<::ros::ServiceServer> services_;
+
+  /// One trajectory controller's `<name>/state` (index into World::data().controllers.running).
+  struct ControllerState {
+    std::size_t controller = 0;
+    ::ros::Publisher publisher;
+    TickSchedule ticks;
+    std::uint64_t last_step = UINT64_MAX;  ///< of the last state sent
+    std::string last_reason;               ///< of the last abort logged
+  };
+  std::vector<ControllerState> controller_states_;
+  /// A joint_state_controller's publish_rate, when one runs: /joint_states at its ticks.
+  std::optional<TickSchedule> joint_state_ticks_;
+  std::uint64_t last_joint_states_step_ = UINT64_MAX;
+  std::uint64_t controller_refusals_seen_ = 0;  ///< of data().controllers.refused_at_step
 };
 
 }  // namespace node

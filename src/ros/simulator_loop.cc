@@ -29,6 +29,8 @@ int Simulator::run() {
   publishStaticFrames();
   publishClock();
   publishOutputs();
+  publishJointStates();
+  publishControllerStates(/*always=*/true);
 
   const bool paced = params_.real_time_factor > 0.0;
   pacer_.restart(world_->stepCount(), Clock::now());
@@ -97,6 +99,8 @@ void Simulator::publishAfterStep() {
   const std::uint64_t s = world_->stepCount();
   if (params_.publish_clock && clock_ticks_.isTick(s)) publishClock();
   if (output_ticks_.isTick(s)) publishOutputs();
+  if (joint_state_ticks_ && joint_state_ticks_->isTick(s)) publishJointStates();
+  publishControllerStates();
 }
 
 void Simulator::noteTreeFaults() {

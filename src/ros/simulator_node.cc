@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "cga_rigid_sim/ros/controller_params.h"
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/scene/scene_summary.h"
 #include "cga_rigid_sim/scene/urdf/srdf.h"
@@ -29,6 +30,11 @@ int main(int argc, char** argv) {
   for (const auto& w : warnings) ROS_WARN("simulator: %s", w.c_str());
   if (!params) {
     ROS_FATAL("simulator: %s", params.error().c_str());
+    return 1;
+  }
+  auto controllers = node::readControllerParams(nh, pnh);
+  if (!controllers) {
+    ROS_FATAL("simulator: %s", controllers.error().c_str());
     return 1;
   }
 
@@ -93,6 +99,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> pairs;
   for (const auto& [a, b] : (*world)->selfCollisionPairs()) pairs.push_back(a + " " + b);
   pnh.setParam("self_collision_pairs", pairs);
+  if (!node::startControllers(**world, *controllers)) return 1;
 
   node::Simulator simulator(nh, pnh, *params, std::move(*world));
   return simulator.run();

@@ -76,8 +76,7 @@ void Simulator::publishOutputs() {
   if (helper.valid()) helper.get();
   if (contacts_pub_.getNumSubscribers() > 0)
     contacts_pub_.publish(toContactArrayMsg(world_->contacts(), stamp, world_frame));
-  if (has_joints_ && joint_states_pub_.getNumSubscribers() > 0)
-    joint_states_pub_.publish(toJointStateMsg(world_->jointStates(), stamp));
+  if (!joint_state_ticks_) publishJointStates();  // else at the joint state controller's rate
   if (markers_pub_.getNumSubscribers() > 0)
     markers_pub_.publish(markersOf(*world_, params_.markers, &marker_refs_, stamp));
 }

@@ -36,6 +36,8 @@ bool Simulator::onStep(cga_rigid_sim::Step::Request& req, cga_rigid_sim::Step::R
     // ~step 0 only reports the time: it publishes nothing, so polling it keeps bags on ticks.
     publishClock();
     publishOutputs();
+    publishJointStates();
+    publishControllerStates(/*always=*/true);
   }
   res.sim_time = toRosTime(world_->time());
   markDisturbed();

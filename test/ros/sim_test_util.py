@@ -20,6 +20,7 @@ from cga_rigid_sim.srv import DeleteBody, GetBodyState, SetBodyState, SpawnUrdf,
 from geometry_msgs.msg import WrenchStamped
 from std_msgs.msg import UInt64
 from std_srvs.srv import Empty
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 TIMEOUT = 20.0  # s of wall time for any single wait
 BARRIER = '__barrier__'  # a body and frame name no scene has
@@ -333,6 +334,23 @@ def make_plain_wrench(link, force, torque=(0.0, 0.0, 0.0), stamp=None):
     msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z = force
     msg.wrench.torque.x, msg.wrench.torque.y, msg.wrench.torque.z = torque
     return msg
+
+
+def make_trajectory(joint_names, points, stamp=None):
+    """trajectory_msgs/JointTrajectory of (time_from_start s, positions, velocities or None)."""
+    msg = JointTrajectory(joint_names=list(joint_names))
+    if stamp is not None:
+        msg.header.stamp = stamp
+    for t, positions, velocities in points:
+        msg.points.append(JointTrajectoryPoint(positions=list(positions),
+                                               velocities=list(velocities or []),
+                                               time_from_start=rospy.Duration(t)))
+    return msg
+
+
+def joint_fields(msg):
+    """Every number of a sensor_msgs/JointState, for bit-for-bit comparisons."""
+    return tuple(msg.position) + tuple(msg.velocity) + tuple(msg.effort)
 
 
 def body(array_msg, name):

@@ -10,7 +10,8 @@
 // zero stamp means "the next step" for inputs (sim/input/inputs.h).
 //
 // Defined in src/ros/: conversions.cc (time, geometry), conversions_inputs.cc (inputs, refusal
-// texts, pose and twist) and conversions_outputs.cc (outputs, built anew or in place).
+// texts, pose and twist), conversions_outputs.cc (outputs, built anew or in place) and
+// conversions_controllers.cc (controller commands and states).
 #pragma once
 
 #include <cga_rigid_sim/ApplyJointEffort.h>
@@ -21,6 +22,7 @@
 #include <cga_rigid_sim/Contact.h>
 #include <cga_rigid_sim/ContactArray.h>
 #include <cga_rigid_sim/CurvedMomentumArray.h>
+#include <cga_rigid_sim/JointTrajectoryControllerState.h>
 #include <cga_rigid_sim/Momentum.h>
 #include <cga_rigid_sim/MomentumArray.h>
 #include <geometry_msgs/Point.h>
@@ -33,12 +35,15 @@
 #include <ros/time.h>
 #include <sensor_msgs/JointState.h>
 #include <tf2_msgs/TFMessage.h>
+#include <trajectory_msgs/JointTrajectory.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/control/joint_trajectory.h"
+#include "cga_rigid_sim/control/trajectory_controller.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/sim/input/inputs.h"
@@ -167,6 +172,18 @@ void fillMomentumArrayMsg(const std::vector<sim::MomentumReport>& reports, const
 void fillBodyStateArrayMsg(const std::vector<sim::BodyStateReport>& reports,
                            const ::ros::Time& stamp, const std::string& world_frame, bool names,
                            cga_rigid_sim::BodyStateArray* msg);
+
+// ---- controllers (doc/node.md#controllers) ----
+
+/// trajectory_msgs/JointTrajectory → the core's trajectory: header.stamp → start_time (0 = now),
+/// joint_names, and per point positions, velocities, accelerations, effort and time_from_start
+/// (s). Never refuses: World::commandTrajectory checks it (control::validate).
+control::JointTrajectory toJointTrajectory(const trajectory_msgs::JointTrajectory& msg);
+/// A trajectory controller's state (desired, actual, error in its joints' order) as
+/// `<controller>/state`, stamped `stamp`; every point's time_from_start is `uptime`.
+cga_rigid_sim::JointTrajectoryControllerState toControllerStateMsg(
+    const control::TrajectoryControllerState& state, const ::ros::Time& stamp,
+    const ::ros::Duration& uptime);
 
 }  // namespace node
 }  // namespace cga_rigid_sim
