@@ -120,6 +120,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("step", &Simulator::onStep, this));
   services_.push_back(pnh_.advertiseService("get_body_state", &Simulator::onGetBodyState, this));
   services_.push_back(pnh_.advertiseService("set_body_state", &Simulator::onSetBodyState, this));
+  services_.push_back(pnh_.advertiseService("set_joint_state", &Simulator::onSetJointState, this));
   services_.push_back(pnh_.advertiseService("spawn_urdf", &Simulator::onSpawnUrdf, this));
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
   services_.push_back(

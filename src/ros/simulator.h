@@ -26,6 +26,7 @@
 #include <cga_rigid_sim/GetBodyState.h>
 #include <cga_rigid_sim/MomentumArray.h>
 #include <cga_rigid_sim/SetBodyState.h>
+#include <cga_rigid_sim/SetJointState.h>
 #include <cga_rigid_sim/SpawnUrdf.h>
 #include <cga_rigid_sim/Step.h>
 #include <geometry_msgs/WrenchStamped.h>
@@ -132,6 +133,8 @@ class Simulator {
                       cga_rigid_sim::GetBodyState::Response& res);
   bool onSetBodyState(cga_rigid_sim::SetBodyState::Request& req,
                       cga_rigid_sim::SetBodyState::Response& res);
+  bool onSetJointState(cga_rigid_sim::SetJointState::Request& req,
+                       cga_rigid_sim::SetJointState::Response& res);
   bool onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req, cga_rigid_sim::SpawnUrdf::Response& res);
   bool onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
                     cga_rigid_sim::DeleteBody::Response& res);

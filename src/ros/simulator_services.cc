@@ -70,6 +70,22 @@ bool Simulator::onSetBodyState(cga_rigid_sim::SetBodyState::Request& req,
   return true;
 }
 
+bool Simulator::onSetJointState(cga_rigid_sim::SetJointState::Request& req,
+                                cga_rigid_sim::SetJointState::Response& res) {
+  sim::JointStateInput in;
+  in.names = req.state.name;
+  in.positions = req.state.position;
+  in.velocities = req.state.velocity;
+  in.stamp = toSimTime(req.state.header.stamp);
+  auto ok = world_->setJointState(in);
+  res.success = ok.ok();
+  if (!ok) {
+    res.message = ok.error();
+    refuse("set_joint_state", ok.error());
+  }
+  return true;
+}
+
 bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
                             cga_rigid_sim::SpawnUrdf::Response& res) {
   auto in = toPoseTwist(req.pose, req.twist, "spawn_urdf");

@@ -38,6 +38,7 @@ import unittest
 
 import rospkg
 import rospy
+from cga_rigid_sim.srv import SetJointState
 import rostest
 from cga_rigid_sim.msg import JointTrajectoryControllerState
 from rosgraph_msgs.msg import Log
@@ -211,6 +212,30 @@ class ControllersTest(unittest.TestCase):
             worst = max(worst, abs(r - q))
         self.assertLess(worst, GOAL_TOL)
         rospy.loginfo('group position command: static error %.3g rad = effort / p', worst)
+
+    def test_c2_set_joint_state(self):
+        """~set_joint_state sets a joint at its step, and the group controller holds it there."""
+        node = self.group
+        t0 = node.step(10)
+        srv = rospy.ServiceProxy('/group/simulator/set_joint_state', SetJointState)
+        srv.wait_for_service(timeout=10)
+        req = JointState(name=['joint3'], position=[0.6])
+        req.header.stamp = t0 + rospy.Duration(0.005)  # five steps ahead: a stamped edit
+        self.assertTrue(srv(req).success)
+        before = node.sim.rejected
+        bad = srv(JointState(name=['joint3'], position=[9.0]))
+        self.assertFalse(bad.success)
+        self.assertIn('set_joint_state.position[0]', bad.message)
+        self.assertIn('outside the limits', bad.message)
+        node.sim.wait_rejected(before + 1)
+        t = node.step(6)
+        js = node.joint_states[t]
+        # Set at the step of its stamp, then one step of the held servo: within a step's motion.
+        self.assertAlmostEqual(js.position[2], 0.6, delta=1e-3)
+        t = node.step(2000)
+        js = node.joint_states[t]
+        # Held where it was set (the servo's static error, effort / p, aside).
+        self.assertAlmostEqual(js.position[2] + js.effort[2] / P_GAINS[2], 0.6, delta=STATIC_TOL)
 
     def test_d_refused_configuration_ends_the_node(self):
         urdf = os.path.join(rospkg.RosPack().get_path('cga_rigid_sim'), 'urdf', 'arm7.urdf')
