@@ -247,8 +247,8 @@ TEST(PickPlace, TheGripperPicksUpHoldsAndPutsDownTheBox) {
   EXPECT_NEAR(world->jointStates()[7].position, kOpen, 1e-4);
 
   // (c) No tree step faulted; the arm reached every goal; the energy book ends with energy
-  // taken out, not made. (Within a carry the book swings by up to 10 mJ and ends 0.55 mJ
-  // below where it started before the lowering: the work through the sticking tree–box
+  // taken out, not made. (Within a carry the book swings by up to 10 mJ, and after the carry
+  // it is 0.55 mJ lower than during the hold: the work through the sticking tree–box
   // contact is booked to first order on either side, doc/control.md#the-pick-and-place-scene;
   // the arm moving alone books to 1e-7 J.)
   EXPECT_EQ(world->treeFaultCount(), 0u)
