@@ -213,7 +213,7 @@ class ControllersTest(unittest.TestCase):
         self.assertLess(worst, GOAL_TOL)
         rospy.loginfo('group position command: static error %.3g rad = effort / p', worst)
 
-    def test_c2_set_joint_state(self):
+    def test_cz_set_joint_state(self):
         """~set_joint_state sets a joint at its step, and the group controller holds it there."""
         node = self.group
         t0 = node.step(10)
