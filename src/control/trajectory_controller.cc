@@ -233,7 +233,8 @@ TrajectoryStatus TrajectoryController::update(double now, JointValues q, JointVa
       if (tol.trajectory > 0 && std::abs(e) > tol.trajectory) {
         abort(now, q,
               "path tolerance violated: joint '" + joint + "' position error " + number(e) +
-                  " exceeds constraints." + joint + ".trajectory = " + number(tol.trajectory) + at());
+                  " exceeds constraints." + joint + ".trajectory = " + number(tol.trajectory) +
+                  at());
         return update(now, q, qd);
       }
       continue;

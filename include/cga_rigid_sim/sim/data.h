@@ -100,12 +100,12 @@ struct ActiveEffort {
 struct TreeData {
   dynamics::TreeState state;
   std::unique_ptr<dynamics::TreeIntegrator> integrator;
-  dynamics::TreeLoads loads;        ///< gravity, the links' applied loads, this step's efforts
-  Eigen::VectorXd held_effort;      ///< per joint: the last commanded effort (~joint_efforts)
+  dynamics::TreeLoads loads;    ///< gravity, the links' applied loads, this step's efforts
+  Eigen::VectorXd held_effort;  ///< per joint: the last commanded effort (~joint_efforts)
   /// Per joint: the controllers' feed-forward effort for this step (integral term, velocity
   /// feed-forward, a group effort command), set by the control stage.
   Eigen::VectorXd controller_effort;
-  std::vector<ActiveEffort> timed;  ///< started timed efforts (~apply_joint_effort)
+  std::vector<ActiveEffort> timed;           ///< started timed efforts (~apply_joint_effort)
   std::vector<std::uint64_t> clamped_steps;  ///< per joint: steps its effort was clamped
   /// The contacts stage kicked the tree and applied its contact impulses this step: the tree
   /// stage then only drifts it, with `drift_loads` (none), and books the step's energy

@@ -48,7 +48,7 @@ struct QueuedInput {
   std::uint64_t steps = 1;  ///< wrench: how many steps it lasts; 0 = until cleared
   int tree = -1;            ///< efforts: the tree and the joint index in it
   int joint = -1;
-  double effort = 0.0;  ///< N m or N
+  double effort = 0.0;                    ///< N m or N
   double position = 0.0, velocity = 0.0;  ///< kJointState: rad (m) and rad/s (m/s)
 };
 
