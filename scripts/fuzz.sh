@@ -56,7 +56,10 @@ launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 jobs=$(nproc 2>/dev/null || echo 2)
 mkdir -p "$out"
-cmake -S "$root/fuzz" -B "$out" -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" >"$out/cmake.log" 2>&1 ||
+# CGA_RIGID_SIM_FUZZ_OPT: the build's optimisation and debug flags (default "-O2 -g"; the test
+# command's short runs use "-O1 -gline-tables-only", quicker to build).
+cmake -S "$root/fuzz" -B "$out" -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" \
+  -DFUZZ_OPT="${CGA_RIGID_SIM_FUZZ_OPT:--O2 -g}" >"$out/cmake.log" 2>&1 ||
   { cat "$out/cmake.log" >&2; echo "fuzz.sh: cmake failed" >&2; exit 1; }
 build_failed=false
 cmake --build "$out" -- -j"$jobs" || build_failed=true
