@@ -9,6 +9,7 @@
 # --junit DIR   also write one JUnit file per target into DIR (fuzz-<target>.xml, one test case:
 #               it passes when the run ended without a crash, leak, timeout or sanitizer report)
 # --build-only  build, do not run
+# --parallel N  run N targets at a time (default 1; scripts/test.sh uses 2, one per core)
 # Builds into build/fuzz (no ROS needed: the core and the targets, instrumented with
 # -fsanitize=fuzzer-no-link,address,undefined). Seeds come from the test data (URDFs of urdf/,
 # test/ros/, test/scene/bad_urdf/; meshes; config/*.yaml as flow text) and fuzz/corpus/<target>/;
@@ -27,6 +28,7 @@ runs=""
 targets=()
 junit=""
 build_only=false
+parallel=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --seconds) seconds="$2"; runs=""; shift 2 ;;
@@ -34,7 +36,8 @@ while [[ $# -gt 0 ]]; do
     --target) targets+=("$2"); shift 2 ;;
     --junit) junit="$2"; shift 2 ;;
     --build-only) build_only=true; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --parallel) parallel="$2"; shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -114,9 +117,10 @@ sys.stdout.write(sys.argv[2] + "\n" + json.dumps(d.get("initial_state", {})) + "
 }
 seed_world_inputs() { :; }
 
-status=0
-summary=()
-for t in "${targets[@]}"; do
+# One target's run: its log, its JUnit file, its summary line (in logs/<target>.summary).
+# Exit status 1 when the run failed.
+run_target() {
+  local t=$1 bin seeds corpus artifacts log args limit start end elapsed execs cov line rc report artifact
   bin="$out/fuzz_$t"
   seeds="$out/seeds/$t"
   corpus="$out/corpus/$t"
@@ -142,15 +146,30 @@ for t in "${targets[@]}"; do
   if [[ $rc -eq 0 ]]; then
     write_junit "$t" "" "" "$elapsed"
   else
-    status=1
     report=$(grep -m1 -E 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error|fuzz check failed|SUMMARY' "$log" || true)
     artifact=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -1)
     line+=" — ${report:-failed} ${artifact:+(reproducer: $artifact)}"
     write_junit "$t" "fuzz_$t: ${report:-exit status $rc}" "$(tail -n 60 "$log")" "$elapsed"
   fi
   echo "fuzz.sh: $line"
-  summary+=("$line")
+  echo "$line" >"$out/logs/$t.summary"
+  [[ $rc -eq 0 ]]
+}
+
+# The targets, `parallel` at a time (each libFuzzer run is one process on one core).
+status=0
+pids=()
+for t in "${targets[@]}"; do
+  run_target "$t" &
+  pids+=($!)
+  if [[ ${#pids[@]} -ge $parallel ]]; then
+    wait "${pids[0]}" || status=1
+    pids=("${pids[@]:1}")
+  fi
 done
+for pid in "${pids[@]}"; do wait "$pid" || status=1; done
+summary=()
+for t in "${targets[@]}"; do summary+=("$(cat "$out/logs/$t.summary" 2>/dev/null || echo "fuzz_$t: no result")"); done
 echo "fuzz.sh: summary"
 printf '  %s\n' "${summary[@]}"
 exit $status

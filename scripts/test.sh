@@ -106,7 +106,7 @@ if [[ $fuzz_seconds != 0 ]]; then
   echo "test.sh: fuzz build done (status $rc; a failure is reported by the run below)"
   echo "test.sh: ---- fuzz targets, $fuzz_seconds s each, and test_scene_asan"
   rc=0
-  bash scripts/fuzz.sh --seconds "$fuzz_seconds" --junit "$results/cga_rigid_sim" || rc=$?
+  bash scripts/fuzz.sh --seconds "$fuzz_seconds" --parallel 2 --junit "$results/cga_rigid_sim" || rc=$?
   if [[ $rc -ne 0 ]] && ! compgen -G "$results/cga_rigid_sim/fuzz-*.xml" >/dev/null; then
     write_failure fuzz "scripts/fuzz.sh exited with status $rc"
   fi
