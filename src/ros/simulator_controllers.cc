@@ -73,6 +73,10 @@ void Simulator::publishJointStates() {
 }
 
 void Simulator::publishControllerStates(bool always) {
+  // Called after every step: without a trajectory controller there is nothing to publish and no
+  // command to be refused at its step, and World::data() (which evaluates coasting bodies) is
+  // not worth a call.
+  if (controller_states_.empty()) return;
   const sim::Data& data = world_->data();
   // Commands the World refused at their step (a trajectory whose points had all passed by
   // then): counted, the last one warned about.
