@@ -60,7 +60,7 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 jobs=$(nproc 2>/dev/null || echo 2)
 mkdir -p "$out"
 # CGA_RIGID_SIM_FUZZ_OPT: the build's optimisation and debug flags (default "-O2 -g"; the test
-# command's short runs use "-O1 -gline-tables-only", quicker to build).
+# command's short runs use "-O0 -gline-tables-only", quicker to build).
 cmake -S "$root/fuzz" -B "$out" -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" \
   -DFUZZ_OPT="${CGA_RIGID_SIM_FUZZ_OPT:--O2 -g}" >"$out/cmake.log" 2>&1 ||
   { cat "$out/cmake.log" >&2; echo "fuzz.sh: cmake failed" >&2; exit 1; }

@@ -17,7 +17,7 @@
 #include "common/cga_embedding.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace cga_identities_test {
 
 using cga::Bivelocity;
 using cga::Moment;
@@ -129,5 +129,5 @@ TEST(CgaIdentities, InertiaMapEnergyAndEquationOfMotion) {
     }
 }
 
-}  // namespace
+}  // namespace cga_identities_test
 }  // namespace cga_rigid_sim

@@ -18,7 +18,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace exact_test {
 
 using testing::principal;
 
@@ -832,6 +832,6 @@ TEST(ExactIntegrator, NameAndFreeStepIsTheExactFlow) {
   EXPECT_EQ(a.omega_B.coefficients(), b.omega_B.coefficients());
 }
 
-}  // namespace
+}  // namespace exact_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -20,7 +20,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace hard_cases_test {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -477,6 +477,6 @@ TEST(HardCaseMujocoBox, KineticEnergyDriftFarInsideMujocosBound) {
   }
 }
 
-}  // namespace
+}  // namespace hard_cases_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

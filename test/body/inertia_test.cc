@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace inertia_test {
 
 using Eigen::Matrix3d;
 using Eigen::Quaterniond;
@@ -209,6 +209,6 @@ TEST(InertiaMap, ApplySolveEnergyAndGyroscopicTerm) {
   }
 }
 
-}  // namespace
+}  // namespace inertia_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -14,7 +14,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace integrator_auto_test {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -122,6 +122,6 @@ TEST(AutoIntegrator, FreeTumblingIsExact) {
   EXPECT_STREQ(integ.name(), "auto");
 }
 
-}  // namespace
+}  // namespace integrator_auto_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace integrator_baselines_test {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -95,6 +95,6 @@ TEST(Baselines, CentreOfMassUnderGravity) {
   EXPECT_STREQ(euler.name(), "euler");
 }
 
-}  // namespace
+}  // namespace integrator_baselines_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

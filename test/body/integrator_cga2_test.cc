@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace integrator_cga2_test {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -413,6 +413,6 @@ TEST(Cga2, RotorNormDoesNotDriftAtSmallAngles) {
   EXPECT_LE(s.M_WB.normDrift(), 2e3 * kEps);
 }
 
-}  // namespace
+}  // namespace integrator_cga2_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

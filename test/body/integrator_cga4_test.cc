@@ -14,7 +14,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace integrator_cga4_test {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -127,6 +127,6 @@ TEST(Cga4, FreeBodyConservesMomentaAndMovesOnALine) {
   EXPECT_STREQ(cga4.name(), "cga4");
 }
 
-}  // namespace
+}  // namespace integrator_cga4_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

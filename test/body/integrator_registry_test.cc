@@ -9,7 +9,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace integrator_registry_test {
 
 TEST(IntegratorRegistry, NamesInDocumentationOrder) {
   EXPECT_EQ(integratorNames(),
@@ -37,6 +37,6 @@ TEST(IntegratorRegistry, UnknownNameIsAnErrorListingTheValidOnes) {
   }
 }
 
-}  // namespace
+}  // namespace integrator_registry_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

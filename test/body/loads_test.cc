@@ -12,7 +12,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace loads_test {
 
 using cga::Multivector;
 using Eigen::Quaterniond;
@@ -225,6 +225,6 @@ TEST(Loads, PredicatesAndAccumulation) {
   EXPECT_EQ(both.appliedMoment_B(M, 1.0).coefficients(), cga::Moment().coefficients());
 }
 
-}  // namespace
+}  // namespace loads_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -17,7 +17,7 @@
 #include "common/cga_embedding.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace motor_test {
 
 using cga::Bivelocity;
 using cga::Force;
@@ -307,5 +307,5 @@ TEST(Point, NullVectorIdentities) {
     }
 }
 
-}  // namespace
+}  // namespace motor_test
 }  // namespace cga_rigid_sim

@@ -31,7 +31,7 @@
 
 namespace cga_rigid_sim {
 namespace cga {
-namespace {
+namespace multivector_test {
 
 using MV = Multivector;
 
@@ -419,6 +419,6 @@ TEST(MultivectorTest, IndexingByMask) {
   EXPECT_THROW(m[32] = 1.0, std::out_of_range);
 }
 
-}  // namespace
+}  // namespace multivector_test
 }  // namespace cga
 }  // namespace cga_rigid_sim

@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace cga {
-namespace {
+namespace rotor4_test {
 
 using testing::Rng;
 using testing::toMV;
@@ -169,6 +169,6 @@ TEST_P(Rotor4Test, RotationAndTranslationSense) {
   EXPECT_NEAR(dot(X, X, sigma), sigma * R * R, 1e-13);
 }
 
-}  // namespace
+}  // namespace rotor4_test
 }  // namespace cga
 }  // namespace cga_rigid_sim

@@ -10,7 +10,7 @@
 
 namespace cga_rigid_sim {
 namespace testing {
-namespace {
+namespace contact_drift_test {
 
 constexpr double kG = 9.81;
 
@@ -72,6 +72,6 @@ TEST(ContactDrift, InputsAndEditsBetweenContactStepsAreNotLostToTheCarriedMoment
   EXPECT_LE((state().angular_velocity - w_set).norm(), 4 * DBL_EPSILON * 2.0);
 }
 
-}  // namespace
+}  // namespace contact_drift_test
 }  // namespace testing
 }  // namespace cga_rigid_sim

@@ -12,7 +12,7 @@
 #include "contact/contact_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace contact_model_test {
 
 using testing::ball;
 using testing::block;
@@ -303,5 +303,5 @@ TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
   EXPECT_EQ(refusal(sim::ContactModel()), "");
 }
 
-}  // namespace
+}  // namespace contact_model_test
 }  // namespace cga_rigid_sim

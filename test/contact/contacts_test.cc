@@ -11,7 +11,7 @@
 #include "contact/contact_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace contacts_test {
 
 using testing::ball;
 using testing::block;
@@ -546,5 +546,5 @@ TEST(Contacts, TabletopExampleSettlesWithoutGainingEnergy) {
   EXPECT_NEAR(bottle.com.z(), 0.125, 1e-6);
 }
 
-}  // namespace
+}  // namespace contacts_test
 }  // namespace cga_rigid_sim

@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace self_collision_test {
 
 using Pair = std::pair<std::string, std::string>;
 using scene::SelfCollisionMode;
@@ -224,6 +224,6 @@ TEST(SelfCollision, ModeNames) {
   EXPECT_FALSE(scene::parseSelfCollisionMode(""));
 }
 
-}  // namespace
+}  // namespace self_collision_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -12,7 +12,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace tree_contacts_test {
 
 constexpr double kG = 9.81;
 
@@ -356,6 +356,6 @@ TEST(TreeContacts, LinksJoinedByAJointDoNotCollide) {
   EXPECT_GT(jointPositionOf(*w, "flap_hinge"), 0.05);
 }
 
-}  // namespace
+}  // namespace tree_contacts_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace tree_self_contact_test {
 
 std::unique_ptr<World> makeWorld(const std::string& urdf, const Eigen::Vector3d& g,
                                  scene::ParamValue initial = {}, WorldConfig config = {}) {
@@ -292,6 +292,6 @@ TEST(TreeSelfContact, OverlappingHeapStartsWithASummaryAndSettles) {
   }
 }
 
-}  // namespace
+}  // namespace tree_self_contact_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

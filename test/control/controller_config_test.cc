@@ -12,7 +12,7 @@
 
 namespace cga_rigid_sim {
 namespace control {
-namespace {
+namespace controller_config_test {
 
 using scene::ParamValue;
 using Map = ParamValue::Map;
@@ -266,6 +266,6 @@ TEST(PidIntegral, ClampsTheTermAndWithAntiwindupTheIntegral) {
   EXPECT_NEAR(a.term(g), 0.0, 1e-15);
 }
 
-}  // namespace
+}  // namespace controller_config_test
 }  // namespace control
 }  // namespace cga_rigid_sim

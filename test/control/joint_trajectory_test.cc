@@ -10,7 +10,7 @@
 
 namespace cga_rigid_sim {
 namespace control {
-namespace {
+namespace joint_trajectory_test {
 
 JointTrajectory good() {
   JointTrajectory t;
@@ -73,6 +73,6 @@ TEST(ValidateTrajectory, RefusesEachBrokenRuleNamingTheField) {
   }
 }
 
-}  // namespace
+}  // namespace joint_trajectory_test
 }  // namespace control
 }  // namespace cga_rigid_sim

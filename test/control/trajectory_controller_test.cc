@@ -10,7 +10,7 @@
 
 namespace cga_rigid_sim {
 namespace control {
-namespace {
+namespace trajectory_controller_test {
 
 constexpr double kTol = 1e-12;
 
@@ -235,6 +235,6 @@ TEST(TrajectoryController, BadCommandsAndOptionsAreRefusedNamingTheField) {
   EXPECT_FALSE(TrajectoryController::create(o, 0, kQ).ok());
 }
 
-}  // namespace
+}  // namespace trajectory_controller_test
 }  // namespace control
 }  // namespace cga_rigid_sim

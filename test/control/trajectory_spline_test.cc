@@ -9,7 +9,7 @@
 
 namespace cga_rigid_sim {
 namespace control {
-namespace {
+namespace trajectory_spline_test {
 
 constexpr double kTol = 1e-12;
 
@@ -152,6 +152,6 @@ TEST(JointSpline, SpliceKeepsTheCurrentUntilTheNewStartThenBridgesFromItsState) 
   EXPECT_NEAR(s.sample(1.5 + 1e-12).velocity, 1.0, 1e-9);
 }
 
-}  // namespace
+}  // namespace trajectory_spline_test
 }  // namespace control
 }  // namespace cga_rigid_sim

@@ -19,7 +19,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace curved_impulse_test {
 
 using cga::Bivector4;
 
@@ -141,6 +141,6 @@ TEST_P(CurvedImpulseTest, TorqueInOnePlaneSpinsABallUpUniformly) {
   }
 }
 
-}  // namespace
+}  // namespace curved_impulse_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

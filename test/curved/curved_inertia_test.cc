@@ -19,7 +19,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace curved_inertia_test {
 
 using cga::Bivector4;
 using cga::Multivector;
@@ -181,6 +181,6 @@ TEST_P(CurvedInertiaTest, PoseFromChartRoundTrips) {
   }
 }
 
-}  // namespace
+}  // namespace curved_inertia_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

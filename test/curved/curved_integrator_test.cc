@@ -21,7 +21,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace curved_integrator_test {
 
 using cga::Bivector4;
 using cga::Rotor4;
@@ -288,6 +288,6 @@ TEST(CurvedIntegratorRegistry, RefusesTheExactFlowForAnAsymmetricBody) {
   EXPECT_TRUE(makeCurvedIntegrator("curved2", I).ok());
 }
 
-}  // namespace
+}  // namespace curved_integrator_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -21,7 +21,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace curved_limit_test {
 
 const Eigen::Vector3d kX0(0.5, -0.3, 0.2);
 const Eigen::Quaterniond kQ0 = Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized();
@@ -130,6 +130,6 @@ TEST_P(CurvedLimitTest, WorldMomentumBecomesLinearAndAngularMomentum) {
   EXPECT_LE((L_W.rot - L).norm(), 1e-8 * L.norm());
 }
 
-}  // namespace
+}  // namespace curved_limit_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -14,7 +14,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace atan_series_test {
 
 using testing::ulps;
 
@@ -88,6 +88,6 @@ TEST(AtanSeries, DispatchersUseTheLibraryOutsideTheBound) {
   EXPECT_LE(ulps(atan2NearZero(-3e-5, 0.7), std::atan2(-3e-5, 0.7)), 2.0);
 }
 
-}  // namespace
+}  // namespace atan_series_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -11,7 +11,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace elliptic_test {
 
 // Truth: the AGM's own stopping rule, |a − b| ≤ √ε a, reached before the table's last level (a
 // capped table would stop early and give wrong sn, cn, dn). Over k'² from the smallest double to
@@ -64,6 +64,6 @@ TEST(EllipticSnCnDn, AgreeWithBoostOverAQuarterPeriod) {
   std::printf("[ info ] sn, cn, dn against Boost.Math over [−K, K]: worst %.1e\n", worst);
 }
 
-}  // namespace
+}  // namespace elliptic_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

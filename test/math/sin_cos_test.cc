@@ -13,7 +13,7 @@
 
 namespace cga_rigid_sim {
 namespace math {
-namespace {
+namespace sin_cos_test {
 
 using testing::ulps;
 
@@ -112,6 +112,6 @@ TEST(SinVersinSeries, WithinFourUlpOfTheLibrary) {
               worst_v);
 }
 
-}  // namespace
+}  // namespace sin_cos_test
 }  // namespace math
 }  // namespace cga_rigid_sim

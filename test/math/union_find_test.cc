@@ -11,7 +11,7 @@
 
 namespace cga_rigid_sim {
 namespace math {
-namespace {
+namespace union_find_test {
 
 // Component labels by BFS: label[x] = the smallest element of x's component.
 std::vector<int> componentsByBfs(int n, const std::vector<std::pair<int, int>>& edges) {
@@ -69,6 +69,6 @@ TEST(UnionFind, JoinKeepsTheSecondSetsRepresentative) {
   EXPECT_EQ(sets.size(), 2);
 }
 
-}  // namespace
+}  // namespace union_find_test
 }  // namespace math
 }  // namespace cga_rigid_sim

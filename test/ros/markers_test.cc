@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace node {
-namespace {
+namespace markers_test {
 
 using visualization_msgs::Marker;
 
@@ -255,6 +255,6 @@ TEST(Markers, RestingBallThroughWorld) {
   EXPECT_EQ(find(array, "body/ball", 1), nullptr);
 }
 
-}  // namespace
+}  // namespace markers_test
 }  // namespace node
 }  // namespace cga_rigid_sim

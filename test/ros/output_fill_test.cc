@@ -24,7 +24,7 @@
 
 namespace cga_rigid_sim {
 namespace node {
-namespace {
+namespace output_fill_test {
 
 // The serialised bytes of a message: equal bytes, equal messages (every field is written).
 template <class M>
@@ -206,6 +206,6 @@ TEST(OutputFill, TfFromBodyStatesIsTheMovingFrames) {
   expectTfFromStatesIsMovingFrames(*pendulum, "double_pendulum.urdf after 300 steps");
 }
 
-}  // namespace
+}  // namespace output_fill_test
 }  // namespace node
 }  // namespace cga_rigid_sim

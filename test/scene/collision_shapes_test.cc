@@ -24,7 +24,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace collision_shapes_test {
 
 namespace fs = std::filesystem;
 using Kind = CollisionShape::Kind;
@@ -386,6 +386,6 @@ TEST(CollisionShapes, SummaryCountsShapesByKind) {
   EXPECT_EQ(sceneSummary(*bare, "auto").find("collision shapes"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace collision_shapes_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

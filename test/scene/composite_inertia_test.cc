@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace composite_inertia_test {
 
 constexpr double kTol = 1e-12;
 
@@ -127,6 +127,6 @@ TEST(CompositeInertia, IndependentOfLambda) {
   }
 }
 
-}  // namespace
+}  // namespace composite_inertia_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

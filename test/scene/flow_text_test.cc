@@ -9,7 +9,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace flow_text_test {
 
 using Type = FlowValue::Type;
 
@@ -78,6 +78,6 @@ TEST(FlowText, ToParamValueMakesIntsNumbers) {
   EXPECT_EQ(a[3].asString(), "x");
 }
 
-}  // namespace
+}  // namespace flow_text_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

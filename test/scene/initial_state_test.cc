@@ -20,7 +20,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace initial_state_test {
 
 constexpr double kTol = 1e-14;
 const std::string kFile = std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/t_handle.urdf";
@@ -232,6 +232,6 @@ TEST(InitialState, AllOrNothingAcrossBodies) {
   EXPECT_EQ(s->bodies[0].M_WB0.translation(1.0), Eigen::Vector3d::Zero());
 }
 
-}  // namespace
+}  // namespace initial_state_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -26,7 +26,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace mass_properties_test {
 
 namespace fs = std::filesystem;
 using math::kPi;
@@ -324,6 +324,6 @@ TEST(MassFromGeometry, SeveralCollisionsAreSummed) {
               Eigen::Vector3d(2 * cube, 2 * cube + 0.5, 2 * cube + 0.5).asDiagonal());
 }
 
-}  // namespace
+}  // namespace mass_properties_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

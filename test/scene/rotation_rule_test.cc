@@ -13,7 +13,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace rotation_rule_test {
 
 // Rounds x to 4 significant digits, as a person copying it would.
 double fourDigits(double x) {
@@ -78,6 +78,6 @@ TEST(RotationRule, ScaledReflectedAndNonFiniteMatricesAreRefused) {
   EXPECT_EQ(rotationMatrixRule(nan).value_or(""), "not finite");
 }
 
-}  // namespace
+}  // namespace rotation_rule_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

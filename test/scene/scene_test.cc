@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace scene_test {
 
 const std::string kUrdf = std::string(CGA_RIGID_SIM_SOURCE_DIR) + "/urdf/";
 
@@ -133,6 +133,6 @@ TEST(Scene, ManyBodiesGeneratorOutputLoads) {
   fs::remove(out);
 }
 
-}  // namespace
+}  // namespace scene_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -13,7 +13,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace articulated_test {
 
 constexpr double kG = 9.81;
 
@@ -333,6 +333,6 @@ TEST(Articulated, ExactIsRefusedForScenesWithJoints) {
   EXPECT_NE(w.error().find("no form for articulated trees"), std::string::npos) << w.error();
 }
 
-}  // namespace
+}  // namespace articulated_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace mimic_world_test {
 
 namespace fs = std::filesystem;
 const fs::path kRobots = fs::path(CGA_RIGID_SIM_SOURCE_DIR) / "test/scene/robots";
@@ -157,6 +157,6 @@ TEST(MimicWorld, AFollowerInContactKeepsTheConstraintAndTheEnergyBook) {
   EXPECT_EQ(w->treeFaultCount(), 0u);
 }
 
-}  // namespace
+}  // namespace mimic_world_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

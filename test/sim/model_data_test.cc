@@ -10,7 +10,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace model_data_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -163,5 +163,5 @@ TEST(ModelData, CompiledIndicesFollowTheScene) {
   EXPECT_TRUE(testing::bitwiseEqual(d->bodies[1].state, m->moving[1].initial));
 }
 
-}  // namespace
+}  // namespace model_data_test
 }  // namespace cga_rigid_sim

@@ -13,7 +13,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace tree_faults_test {
 
 // A fixed-base tree whose second link hangs 2.2e7 m from the first joint: its mass matrix,
 // formed in the frame of the tree's root link, loses every digit of the 0.004 kg m² of the
@@ -133,6 +133,6 @@ TEST(TreeFaults, ATreeWhoseContactKickIsNotFiniteIsLeftOutOfTheContactSolve) {
   }
 }
 
-}  // namespace
+}  // namespace tree_faults_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

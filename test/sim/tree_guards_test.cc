@@ -21,7 +21,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace tree_guards_test {
 
 enum class Break { kUnsolved, kPastLimit, kAddEnergy, kFlipBase };
 
@@ -199,6 +199,6 @@ TEST(TreeGuards, AContactStepThatChangesAFloatingTreesMomentumIsUndone) {
                "changed the floating tree's momentum by");
 }
 
-}  // namespace
+}  // namespace tree_guards_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

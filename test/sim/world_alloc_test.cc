@@ -23,7 +23,7 @@
 #define CGA_RIGID_SIM_COUNT_ALLOCATIONS 1
 #endif
 
-namespace {
+namespace allocation_counter {
 std::atomic<bool> g_counting{false};
 std::atomic<long> g_allocations{0};
 void* countedAlloc(std::size_t n) {
@@ -37,7 +37,7 @@ void* countedAlignedAlloc(std::size_t n, std::size_t align) {
   if (posix_memalign(&p, std::max(align, sizeof(void*)), n ? n : 1) == 0) return p;
   throw std::bad_alloc();
 }
-}  // namespace
+}  // namespace allocation_counter
 
 #if CGA_RIGID_SIM_COUNT_ALLOCATIONS
 // Eigen's dynamic matrices take their memory from malloc, not from operator new: malloc and
@@ -46,20 +46,22 @@ void* countedAlignedAlloc(std::size_t n, std::size_t align) {
 extern "C" void* __libc_malloc(std::size_t);
 extern "C" void* __libc_realloc(void*, std::size_t);
 extern "C" void* malloc(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (allocation_counter::g_counting.load(std::memory_order_relaxed))
+    allocation_counter::g_allocations.fetch_add(1);
   return __libc_malloc(n);
 }
 extern "C" void* realloc(void* p, std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (allocation_counter::g_counting.load(std::memory_order_relaxed))
+    allocation_counter::g_allocations.fetch_add(1);
   return __libc_realloc(p, n);
 }
-void* operator new(std::size_t n) { return countedAlloc(n); }
-void* operator new[](std::size_t n) { return countedAlloc(n); }
+void* operator new(std::size_t n) { return allocation_counter::countedAlloc(n); }
+void* operator new[](std::size_t n) { return allocation_counter::countedAlloc(n); }
 void* operator new(std::size_t n, std::align_val_t a) {
-  return countedAlignedAlloc(n, static_cast<std::size_t>(a));
+  return allocation_counter::countedAlignedAlloc(n, static_cast<std::size_t>(a));
 }
 void* operator new[](std::size_t n, std::align_val_t a) {
-  return countedAlignedAlloc(n, static_cast<std::size_t>(a));
+  return allocation_counter::countedAlignedAlloc(n, static_cast<std::size_t>(a));
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
@@ -72,7 +74,7 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::f
 #endif
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_alloc_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -118,11 +120,12 @@ TEST(WorldAllocation, StepDoesNotAllocate) {
       ASSERT_TRUE(w->applyImpulse(j).ok());
     }
     w->step();  // the integrators' first step may set up per-body caches
-    g_allocations = 0;
-    g_counting = true;
+    allocation_counter::g_allocations = 0;
+    allocation_counter::g_counting = true;
     w->step(100);
-    g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << (gravity ? "with" : "without") << " gravity";
+    allocation_counter::g_counting = false;
+    EXPECT_EQ(allocation_counter::g_allocations.load(), 0)
+        << (gravity ? "with" : "without") << " gravity";
     EXPECT_EQ(w->queuedInputCount(), 0u);
   }
 }
@@ -170,11 +173,11 @@ TEST(WorldAllocation, StepAtTheInputBoundsDoesNotAllocate) {
                 }())
                    .ok());  // the queue is full
   w.step();                 // the integrators' first step may set up per-body caches
-  g_allocations = 0;
-  g_counting = true;
+  allocation_counter::g_allocations = 0;
+  allocation_counter::g_counting = true;
   w.step(100);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  allocation_counter::g_counting = false;
+  EXPECT_EQ(allocation_counter::g_allocations.load(), 0);
   EXPECT_EQ(w.queuedInputCount(), 0u);
   EXPECT_GT(w.startRefusalCount(), 0u);
   EXPECT_LE(w.activeWrenchCount(), 60u);
@@ -193,11 +196,11 @@ TEST(WorldAllocation, ParallelStepDoesNotAllocate) {
   auto w = sim::World::create(makeScene(bodies), config);
   ASSERT_TRUE(w.ok()) << w.error();
   (*w)->step(2);  // the integrators' first steps set up per-body caches
-  g_allocations = 0;
-  g_counting = true;
+  allocation_counter::g_allocations = 0;
+  allocation_counter::g_counting = true;
   (*w)->step(50);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  allocation_counter::g_counting = false;
+  EXPECT_EQ(allocation_counter::g_allocations.load(), 0);
 }
 
 // Truth: the same contract for articulated trees (stage_trees.cc): a fixed-base arm with its
@@ -239,11 +242,11 @@ TEST(WorldAllocation, TreeStepDoesNotAllocate) {
       wrench.duration = 0.02;
       ASSERT_TRUE(w.applyWrench(wrench).ok());
       w.step();  // the first step sizes the integrators' scratch
-      g_allocations = 0;
-      g_counting = true;
+      allocation_counter::g_allocations = 0;
+      allocation_counter::g_counting = true;
       w.step(100);
-      g_counting = false;
-      EXPECT_EQ(g_allocations.load(), 0) << name << " with " << integrator;
+      allocation_counter::g_counting = false;
+      EXPECT_EQ(allocation_counter::g_allocations.load(), 0) << name << " with " << integrator;
     }
   }
 }
@@ -278,14 +281,14 @@ TEST(WorldAllocation, TreeContactStepDoesNotAllocate) {
     ASSERT_TRUE(w.setJointEfforts(held).ok());
     w.step(10);
     ASSERT_EQ(w.contacts().size(), 8u);
-    g_allocations = 0;
-    g_counting = true;
+    allocation_counter::g_allocations = 0;
+    allocation_counter::g_counting = true;
     w.step(100);
-    g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << integrator;
+    allocation_counter::g_counting = false;
+    EXPECT_EQ(allocation_counter::g_allocations.load(), 0) << integrator;
     EXPECT_EQ(w.contacts().size(), 8u);
   }
 }
 
-}  // namespace
+}  // namespace world_alloc_test
 }  // namespace cga_rigid_sim

@@ -9,7 +9,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_coasting_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -145,5 +145,5 @@ TEST(WorldCoasting, ASetStateStartsAFreshCoast) {
   }
 }
 
-}  // namespace
+}  // namespace world_coasting_test
 }  // namespace cga_rigid_sim

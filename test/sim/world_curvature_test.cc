@@ -18,7 +18,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace world_curvature_test {
 
 using testing::makeScene;
 using testing::movingBody;
@@ -261,6 +261,6 @@ TEST(WorldCurvature, InputsBecomeTheFlatOnesAsTheRadiusGrows) {
   }
 }
 
-}  // namespace
+}  // namespace world_curvature_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

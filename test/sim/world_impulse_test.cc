@@ -6,7 +6,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_impulse_test {
 
 using testing::kEps;
 using testing::makeScene;
@@ -102,5 +102,5 @@ TEST(WorldImpulse, AppliedAtTheStartOfTheStepItsStampFallsIn) {
   }
 }
 
-}  // namespace
+}  // namespace world_impulse_test
 }  // namespace cga_rigid_sim

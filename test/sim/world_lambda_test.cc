@@ -5,7 +5,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_lambda_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -69,5 +69,5 @@ TEST(WorldLambda, ResultsDoNotDependOnLambda) {
   EXPECT_LE((a.angular_velocity - b.angular_velocity).norm(), 1e-12 * a.angular_velocity.norm());
 }
 
-}  // namespace
+}  // namespace world_lambda_test
 }  // namespace cga_rigid_sim

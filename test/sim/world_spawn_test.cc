@@ -4,7 +4,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_spawn_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -225,5 +225,5 @@ TEST(WorldSpawn, DeleteRemovesTheBodyAndKeepsTheOthersInputs) {
   EXPECT_TRUE(spawned.ok()) << spawned.error();
 }
 
-}  // namespace
+}  // namespace world_spawn_test
 }  // namespace cga_rigid_sim

@@ -6,7 +6,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_state_test {
 
 using testing::kEps;
 using testing::makeScene;
@@ -210,5 +210,5 @@ TEST(WorldState, BodiesAtRestStayBitwiseAndWakeOnInput) {
   EXPECT_NEAR(w->getBodyState("box")->com.z(), 3.0 + 10 * w->config().dt, 1e-14);
 }
 
-}  // namespace
+}  // namespace world_state_test
 }  // namespace cga_rigid_sim

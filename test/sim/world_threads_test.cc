@@ -6,7 +6,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_threads_test {
 
 using testing::makeScene;
 using testing::movingBody;
@@ -80,5 +80,5 @@ TEST(WorldThreads, ThreadCountOutsideItsRangeIsRefused) {
   }
 }
 
-}  // namespace
+}  // namespace world_threads_test
 }  // namespace cga_rigid_sim

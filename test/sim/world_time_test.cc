@@ -7,7 +7,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_time_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -180,5 +180,5 @@ TEST(WorldTime, ResetRestoresTheInitialStateBitwiseAndTimeRunsOn) {
     EXPECT_TRUE(testing::bitwiseEqual(sw[i].state, sf[i].state)) << sw[i].name;
 }
 
-}  // namespace
+}  // namespace world_time_test
 }  // namespace cga_rigid_sim

@@ -8,7 +8,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_validation_test {
 
 using testing::makeScene;
 using testing::makeWorld;
@@ -348,5 +348,5 @@ TEST(WorldValidation, CreateRefusesABadConfigurationOrScene) {
   EXPECT_NE(unknown.error().find("verlet"), std::string::npos) << unknown.error();
 }
 
-}  // namespace
+}  // namespace world_validation_test
 }  // namespace cga_rigid_sim

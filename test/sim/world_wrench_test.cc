@@ -6,7 +6,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace world_wrench_test {
 
 using testing::kEps;
 using testing::makeScene;
@@ -282,5 +282,5 @@ TEST(WorldWrench, TinyForceOffTheCentreOfMassLeavesAFiniteState) {
   }
 }
 
-}  // namespace
+}  // namespace world_wrench_test
 }  // namespace cga_rigid_sim

@@ -15,7 +15,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace articulated_body_test {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
@@ -278,6 +278,6 @@ TEST(Pendulum, AbaGivesTheCompoundPendulumAcceleration) {
   }
 }
 
-}  // namespace
+}  // namespace articulated_body_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -14,7 +14,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace joint_servo_test {
 
 using Eigen::Matrix2d;
 using Eigen::Vector2d;
@@ -184,6 +184,6 @@ TEST(JointServo, PendulumSettlesAtTheStaticEquilibrium) {
   EXPECT_NEAR(s.v[0], 0.0, 1e-12);
 }
 
-}  // namespace
+}  // namespace joint_servo_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

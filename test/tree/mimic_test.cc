@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace mimic_test {
 
 const char* const kIntegrators[] = {"auto", "cga2", "cga4", "rk4", "euler"};
 constexpr double kLambda = 1.0, kG = 9.81;
@@ -362,6 +362,6 @@ TEST(MimicJoints, AnImpulseMovesTheTreeWithinTheConstraint) {
   }
 }
 
-}  // namespace
+}  // namespace mimic_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -14,7 +14,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace tree_integrator_residual_test {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
@@ -211,6 +211,6 @@ TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
   EXPECT_FALSE(MidpointResidual::applies(fixed, loads));
 }
 
-}  // namespace
+}  // namespace tree_integrator_residual_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace dynamics {
-namespace {
+namespace tree_integrator_test {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
@@ -375,6 +375,6 @@ TEST(TreeIntegrator, ImpulseOnAFloatingTreeAddsExactlyItsMomentum) {
   EXPECT_LT((P.rot - expected.rot).norm() + (P.trans - expected.trans).norm(), 1e-12);
 }
 
-}  // namespace
+}  // namespace tree_integrator_test
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

@@ -18,7 +18,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace bad_urdf_test {
 
 namespace fs = std::filesystem;
 
@@ -162,6 +162,6 @@ TEST(BadUrdfCorpus, BadOptionsAreRefused) {
   EXPECT_NE(loadUrdfFile(good, o).error().find("world_frame"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace bad_urdf_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -30,7 +30,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace joints_test {
 
 constexpr double kTol = 1e-12;
 using Map = ParamValue::Map;
@@ -670,6 +670,6 @@ TEST(Joints, FloatingJointBelowAHingedBody) {
   EXPECT_LT((s.bodies[1].M_WB0.translation(1.0) - Vector3d(1, 0, 1)).cwiseAbs().maxCoeff(), kTol);
 }
 
-}  // namespace
+}  // namespace joints_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -21,7 +21,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace link_pose_test {
 
 namespace fs = std::filesystem;
 constexpr double kTol = 1e-12;
@@ -171,6 +171,6 @@ TEST(LinkPose, RootNotWorldFloatingBelowAndStaticBodies) {
   fs::remove(file2);
 }
 
-}  // namespace
+}  // namespace link_pose_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -17,7 +17,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace published_habits_test {
 
 namespace fs = std::filesystem;
 
@@ -302,6 +302,6 @@ TEST(PublishedHabits, TheSummaryOfAFiftyJointRobotListsItWhole) {
   EXPECT_FALSE(contains(all, "more joints")) << all;
 }
 
-}  // namespace
+}  // namespace published_habits_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

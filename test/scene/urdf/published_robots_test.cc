@@ -19,7 +19,7 @@
 
 namespace cga_rigid_sim {
 namespace scene {
-namespace {
+namespace published_robots_test {
 
 namespace fs = std::filesystem;
 
@@ -126,6 +126,6 @@ TEST_F(PublishedRobots, AtlasLoadsWithoutItsHeadAndIsRefusedWithItsUndefinedHead
       << full.error();
 }
 
-}  // namespace
+}  // namespace published_robots_test
 }  // namespace scene
 }  // namespace cga_rigid_sim

@@ -18,7 +18,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace controllers_world_test {
 
 using scene::ParamValue;
 
@@ -240,6 +240,6 @@ TEST(ControllersWorld, BadCommandsAndConfigurationsAreRefusedByName) {
             "controllers.x.joints[0]: unknown joint 'elbow_of_nobody'");
 }
 
-}  // namespace
+}  // namespace controllers_world_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

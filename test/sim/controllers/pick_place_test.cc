@@ -21,7 +21,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace pick_place_test {
 
 using scene::ParamValue;
 using Joints = std::vector<double>;
@@ -261,6 +261,6 @@ TEST(PickPlace, TheGripperPicksUpHoldsAndPutsDownTheBox) {
   EXPECT_GE(world->momentum().back().dissipated_energy, 0.0);
 }
 
-}  // namespace
+}  // namespace pick_place_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

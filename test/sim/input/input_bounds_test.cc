@@ -12,7 +12,7 @@
 #include "sim/world_fixtures.h"
 
 namespace cga_rigid_sim {
-namespace {
+namespace input_bounds_test {
 
 using testing::makeScene;
 using testing::movingBody;
@@ -354,5 +354,5 @@ TEST(InputBounds, CreateRefusesABoundBelowOne) {
   EXPECT_EQ(w.error(), "config.max_active_wrenches_per_body: must be ≥ 1 (got 0)");
 }
 
-}  // namespace
+}  // namespace input_bounds_test
 }  // namespace cga_rigid_sim

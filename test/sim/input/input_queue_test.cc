@@ -5,7 +5,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace input_queue_test {
 
 QueuedInput input(std::uint64_t step, int body, QueuedInput::Kind kind = QueuedInput::Kind::kWrench,
                   double tag = 0) {
@@ -61,6 +61,6 @@ TEST(InputQueue, ClearWrenchesAndRemoveBody) {
   EXPECT_TRUE(q.empty());
 }
 
-}  // namespace
+}  // namespace input_queue_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

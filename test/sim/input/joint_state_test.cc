@@ -12,7 +12,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace joint_state_test {
 
 using scene::ParamValue;
 
@@ -100,6 +100,6 @@ TEST(JointState, BadInputIsRefusedWithNothingApplied) {
   EXPECT_EQ(world->queuedInputCount(), 0u);  // nothing was queued
 }
 
-}  // namespace
+}  // namespace joint_state_test
 }  // namespace sim
 }  // namespace cga_rigid_sim
