@@ -232,11 +232,11 @@ TEST(ExactFreeFlow, NStepsEqualOneLongStep) {
 }
 
 // Truth: the semigroup property for the steps that take Π's part of ψ from its addition theorem
-// and, for small phase steps, sn, cn, dn from theirs (doc/conventions.md (E32), free_flow_phase.h): j steps of h
-// against one step of j h, for j = 1 … 100 (three runs and a part), which the cache evaluates
-// from its anchor with R_J and Bulirsch's sn, cn, dn — an independent evaluation of the same
-// closed form. Phase steps δ = ω_p h of 1e-3, 0.03 and 0.2 take the small-step path; 0.05 … 3.6
-// half periods 2K the other (0.8 and 1.3 round to one half period: sn δ changes sign); both
+// and, for small phase steps, sn, cn, dn from theirs (doc/conventions.md (E32), free_flow_phase.h):
+// j steps of h against one step of j h, for j = 1 … 100 (three runs and a part), which the cache
+// evaluates from its anchor with R_J and Bulirsch's sn, cn, dn — an independent evaluation of the
+// same closed form. Phase steps δ = ω_p h of 1e-3, 0.03 and 0.2 take the small-step path; 0.05
+// … 3.6 half periods 2K the other (0.8 and 1.3 round to one half period: sn δ changes sign); both
 // paths and both forms (n and N) are checked to occur. Bodies: both polhode axes, near the
 // separatrix (k' ≪ 1: the state spends its time at cn, dn ≈ k', where an absolute error ε in
 // them would be a phase error ε/k'), near symmetry, the thin rod. Tolerance: a run adds up at
