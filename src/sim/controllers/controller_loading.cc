@@ -181,21 +181,34 @@ std::map<std::string, T> prefixedKeys(const std::map<std::string, T>& by_joint,
   return out;
 }
 
+// The YAML's controllers `names` and its pid_gains (none: no gains), as control/ reads them.
+struct Parsed {
+  control::ControllerSet set;
+  control::PidGainsSet pid;
+};
+Result<Parsed> parse(const scene::ParamValue& controllers, const std::vector<std::string>& names,
+                     const scene::ParamValue& pid_gains) {
+  Parsed out;
+  auto set = control::parseControllers(controllers, names);
+  if (!set) return set.failure();
+  out.set = std::move(*set);
+  if (!pid_gains.isNone()) {
+    auto pid = control::parsePidGains(pid_gains);
+    if (!pid) return pid.failure();
+    out.pid = std::move(*pid);
+  }
+  return out;
+}
+
 }  // namespace
 
 Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
                                                  const scene::ParamValue& controllers,
                                                  const std::vector<std::string>& names,
                                                  const scene::ParamValue& pid_gains) {
-  auto set = control::parseControllers(controllers, names);
-  if (!set) return set.failure();
-  control::PidGainsSet pid;
-  if (!pid_gains.isNone()) {
-    auto parsed = control::parsePidGains(pid_gains);
-    if (!parsed) return parsed.failure();
-    pid = std::move(*parsed);
-  }
-  return addControllers(model, data, *set, pid, "");
+  auto parsed = parse(controllers, names, pid_gains);
+  if (!parsed) return parsed.failure();
+  return addControllers(model, data, parsed->set, parsed->pid, "");
 }
 
 Result<std::vector<std::string>> loadRobotControllers(const Model& model, Data& data, int robot,
@@ -203,14 +216,10 @@ Result<std::vector<std::string>> loadRobotControllers(const Model& model, Data& 
                                                       const std::vector<std::string>& names,
                                                       const scene::ParamValue& pid_gains) {
   const RobotModel& r = model.robots[robot];
-  auto set = control::parseControllers(controllers, names);
-  if (!set) return set.failure();
-  control::PidGainsSet pid;
-  if (!pid_gains.isNone()) {
-    auto parsed = control::parsePidGains(pid_gains);
-    if (!parsed) return parsed.failure();
-    pid = std::move(*parsed);
-  }
+  auto parsed = parse(controllers, names, pid_gains);
+  if (!parsed) return parsed.failure();
+  const control::ControllerSet& set = parsed->set;
+  control::PidGainsSet& pid = parsed->pid;
   const std::string prefix = r.name_space.empty() ? "" : r.name_space + "/";
   pid.gains = prefixedKeys(pid.gains, prefix);
   const auto ours = [&model, &r](const std::string& joint) {
@@ -219,8 +228,8 @@ Result<std::vector<std::string>> loadRobotControllers(const Model& model, Data& 
            it->second.first < r.first_tree + r.tree_count;
   };
   control::ControllerSet robot_set;
-  robot_set.warnings = set->warnings;
-  for (control::ControllerConfig c : set->controllers) {
+  robot_set.warnings = set.warnings;
+  for (control::ControllerConfig c : set.controllers) {
     if (c.type == control::ControllerType::kJointState) continue;
     std::size_t have = 0;
     for (std::string& joint : c.joints) {
