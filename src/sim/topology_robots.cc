@@ -217,7 +217,10 @@ Result<bool> spawnRobot(Model& model, Data& data, const std::string& name,
     auto loaded = loadRobotControllers(model, data, index, options.controllers,
                                        options.controller_names, options.pid_gains);
     if (!loaded) {
+      // (Deleting clears the last step's contacts; none of them involves the robot.)
+      std::vector<Contact> contacts = data.contacts;
       deleteRobot(model, data, index);
+      data.contacts = std::move(contacts);
       model.topology_version = version;
       model.scene.warnings.resize(warnings);
       return Error(kInput, "controllers", loaded.failure().message());

@@ -36,12 +36,13 @@ std::string armUrdf() {
 }
 
 // The arm hanging from the ceiling at the origin: the start scene of every world here.
-std::unique_ptr<World> armWorld(const Eigen::Vector3d& gravity = {0, 0, -9.81}) {
+std::unique_ptr<World> armWorld(const Eigen::Vector3d& gravity = {0, 0, -9.81},
+                                const WorldConfig& config = {}) {
   scene::SceneOptions options;
   options.gravity_W = gravity;
   auto scene = scene::loadUrdfFile(kArmPath, options);
   EXPECT_TRUE(scene.ok()) << scene.error();
-  auto world = World::create(std::move(*scene), WorldConfig{});
+  auto world = World::create(std::move(*scene), config);
   EXPECT_TRUE(world.ok()) << world.error();
   return std::move(*world);
 }
@@ -353,10 +354,24 @@ TEST(WorldSpawnRobots, FreeRobotKeepsItsMomentumInZeroGravity) {
 // as a world that never received them (every body's state bit for bit), its topology version
 // and names unchanged. Each refusal names the field and the rule.
 TEST(WorldSpawnRobots, RefusalsLeaveTheWorldBitIdentical) {
-  auto w = armWorld(), clean = armWorld();
+  // With a ball bouncing on a ground plane beside the arms: the last step's contacts are part
+  // of what must not change.
+  WorldConfig config;
+  config.ground_plane = GroundPlane{};
+  auto w = armWorld({0, 0, -9.81}, config), clean = armWorld({0, 0, -9.81}, config);
   const std::string urdf = armUrdf();
-  for (World* x : {w.get(), clean.get()})
+  const std::string ball =
+      "<robot name=\"ball\"><link name=\"ball\"><inertial><mass value=\"1\"/><inertia "
+      "ixx=\"0.004\" iyy=\"0.004\" izz=\"0.004\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>"
+      "<collision><geometry><sphere radius=\"0.1\"/></geometry></collision></link></robot>";
+  Eigen::Isometry3d above = at(0, -3);
+  above.translation().z() = 0.3;
+  for (World* x : {w.get(), clean.get()}) {
     ASSERT_TRUE(x->spawnUrdf("r1", urdf, at(3, 0), kZero, kZero, robotOptions("r1")).ok());
+    ASSERT_TRUE(x->spawnUrdf("ball", ball, above, kZero, kZero).ok());
+    x->step(260);  // the ball lands after 0.2 s (h = 0.2 m) and rests
+  }
+  ASSERT_FALSE(w->data().contacts.empty());
   const auto version = w->topologyVersion();
   const std::size_t bodies = w->scene().bodies.size();
   Eigen::Isometry3d nan_pose = at(0, 3);
@@ -405,6 +420,7 @@ TEST(WorldSpawnRobots, RefusalsLeaveTheWorldBitIdentical) {
     EXPECT_EQ(w->topologyVersion(), version) << c.expected;
     EXPECT_EQ(w->scene().bodies.size(), bodies) << c.expected;
     EXPECT_EQ(w->model().robots.size(), 1u) << c.expected;
+    EXPECT_EQ(w->contacts().size(), clean->contacts().size()) << c.expected;  // still reported
   }
   // A part of a robot is not deleted alone.
   auto part = w->deleteBody("r1/link3");
