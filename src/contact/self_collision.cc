@@ -16,11 +16,34 @@ bool SelfCollision::binarySearch(const std::pair<int, int>& key) const {
   return std::binary_search(allowed.begin(), allowed.end(), key);
 }
 
-void SelfCollision::eraseBody(int j) {
-  robot_of_body.erase(robot_of_body.begin() + j);
-  const auto shift = [j](int x) { return x > j ? x - 1 : x; };
+void SelfCollision::eraseBodies(int first, int count) {
+  robot_of_body.erase(robot_of_body.begin() + first, robot_of_body.begin() + first + count);
+  const auto gone = [first, count](int x) { return x >= first && x < first + count; };
+  const auto shift = [first, count](int x) { return x >= first + count ? x - count : x; };
+  allowed.erase(
+      std::remove_if(allowed.begin(), allowed.end(),
+                     [&](const std::pair<int, int>& p) { return gone(p.first) || gone(p.second); }),
+      allowed.end());
+  excluded.erase(std::remove_if(excluded.begin(), excluded.end(),
+                                [&](const Excluded& e) { return gone(e.a) || gone(e.b); }),
+                 excluded.end());
   for (auto& p : allowed) p = {shift(p.first), shift(p.second)};
   for (auto& e : excluded) e.a = shift(e.a), e.b = shift(e.b);
+}
+
+void SelfCollision::appendRobot(const SelfCollision& robot, int first_body) {
+  // Labels are only compared with each other: the robot's start past every label in use.
+  int label = static_cast<int>(robot_of_body.size());
+  for (int r : robot_of_body) label = std::max(label, r + 1);
+  for (std::size_t k = 0; k < robot.robot_of_body.size(); ++k)
+    if (robot.robot_of_body[k] >= 0) robot_of_body[first_body + k] = label + robot.robot_of_body[k];
+  // Its pairs come after every pair here (their bodies do): `allowed` stays sorted.
+  for (const auto& [a, b] : robot.allowed) allowed.emplace_back(a + first_body, b + first_body);
+  for (Excluded e : robot.excluded) {
+    e.a += first_body;
+    e.b += first_body;
+    excluded.push_back(e);
+  }
 }
 
 const char* toString(SelfCollision::Reason reason) {

@@ -61,18 +61,29 @@ Result<ControllerParams> readControllerParams(const ::ros::NodeHandle& nh,
   const std::string ns = nh.getNamespace();
   p.prefix = ns.empty() || ns.back() != '/' ? ns + "/" : ns;
   XmlRpc::XmlRpcValue raw;
-  if (!pnh.getParam("controllers", raw)) return p;
-  p.set = true;
-  auto value = toParamValue(raw, "~controllers");
-  if (!value) return Error{value.error()};
-  auto names = controllerNames(*value);
-  if (!names) return Error{names.error()};
-  p.names = std::move(*names);
-  if (p.names.empty()) return p;
+  if (pnh.getParam("controllers", raw)) {
+    p.set = true;
+    auto value = toParamValue(raw, "~controllers");
+    if (!value) return Error{value.error()};
+    auto names = controllerNames(*value);
+    if (!names) return Error{names.error()};
+    p.names = std::move(*names);
+  }
+  p.spawn_names = p.names;
+  if (pnh.getParam("spawn_controllers", raw)) {
+    auto value = toParamValue(raw, "~spawn_controllers");
+    if (!value) return Error{value.error()};
+    auto names = controllerNames(*value);
+    // (its messages name ~controllers: the form is the same)
+    if (!names) return Error{"~spawn_" + names.error().substr(1)};
+    p.spawn_names = std::move(*names);
+  }
+  if (p.names.empty() && p.spawn_names.empty()) return p;
 
   // The named controllers, and every entry of the namespace with a type (found by its
   // `<prefix><name>/type` parameter), so that the World's refusal of a misspelt name lists them.
   std::vector<std::string> entries = p.names;
+  entries.insert(entries.end(), p.spawn_names.begin(), p.spawn_names.end());
   std::vector<std::string> all;
   if (nh.getParamNames(all)) {
     for (const std::string& param : all) {
@@ -88,7 +99,7 @@ Result<ControllerParams> readControllerParams(const ::ros::NodeHandle& nh,
     const std::string& name = entries[k];
     if (controllers.count(name)) continue;
     auto entry = readValue(nh, p.prefix + name);
-    if (!entry && k < p.names.size()) return Error{entry.error()};
+    if (!entry && k < p.names.size() + p.spawn_names.size()) return Error{entry.error()};
     if (entry && !entry->isNone()) controllers.emplace(name, std::move(*entry));
   }
   p.controllers = scene::ParamValue(std::move(controllers));

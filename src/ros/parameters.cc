@@ -232,7 +232,7 @@ const std::vector<std::string>& knownPrivateParams() {
   static const std::vector<std::string> kNames = {
       "urdf_file", "initial_state", "integrator", "dt", "gravity", "real_time_factor",
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
-      "max_impulse", "relax_inertia", "threads", "curvature", "controllers",
+      "max_impulse", "relax_inertia", "threads", "curvature", "controllers", "spawn_controllers",
       // contacts
       "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping", "self_collision",
       "srdf_file", "self_collision_pairs",

@@ -17,10 +17,7 @@ namespace cga_rigid_sim {
 namespace node {
 namespace {
 
-// Queue sizes of the output publishers (per subscriber): large enough that a ~step burst
-// reaches rosbag without drops, bounded so a slow subscriber cannot exhaust memory.
-constexpr std::uint32_t kOutputQueueSize = 1000;
-constexpr std::uint32_t kClockQueueSize = 1000;
+constexpr std::uint32_t kClockQueueSize = 1000;  // as kOutputQueueSize
 
 }  // namespace
 
@@ -34,7 +31,7 @@ void logInfoLines(const std::string& text) {
 }
 
 Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
-                     std::unique_ptr<sim::World> world)
+                     ControllerParams controllers, std::unique_ptr<sim::World> world)
     : nh_(nh),
       pnh_(pnh),
       params_(params),
@@ -43,6 +40,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       clock_ticks_(world_->config().dt, params.clock_rate),
       pacer_(world_->config().dt, params.real_time_factor),
       has_joints_(!world_->scene().joints.empty()),
+      controller_params_(std::move(controllers)),
       paused_(params.paused) {
   // The configuration is said before anything is advertised: a client that sees a service up
   // has seen these lines too.
@@ -125,7 +123,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
   services_.push_back(
       pnh_.advertiseService("apply_joint_effort", &Simulator::onApplyJointEffort, this));
-  startControllerTopics();
+  syncControllerTopics();
 }
 
 }  // namespace node

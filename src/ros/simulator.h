@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/ros/controller_params.h"
 #include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/ros/parameters.h"
 #include "cga_rigid_sim/sim/world.h"
@@ -61,6 +62,9 @@ class Simulator {
  public:
   /// Bound on each subscriber's queue (messages): a flood is dropped by roscpp, not stored.
   static constexpr std::uint32_t kInputQueueSize = 1000;
+  /// Queue size of the output publishers (per subscriber): large enough that a ~step burst
+  /// reaches rosbag without drops, bounded so a slow subscriber cannot exhaust memory.
+  static constexpr std::uint32_t kOutputQueueSize = 1000;
   /// Callbacks are serviced at least this often (wall time) while stepping.
   static constexpr std::chrono::milliseconds kServiceInterval{2};
   /// Longest single wait on the callback queue (paused, or between real-time steps): bounds
@@ -69,8 +73,10 @@ class Simulator {
   /// Refusal warnings per topic or service are throttled to one per this wall time.
   static constexpr std::chrono::seconds kRefusalLogPeriod{1};
 
+  /// `controllers`: the node's controllers parameters, which ~spawn_urdf starts for a spawned
+  /// robot (~spawn_controllers, doc/node.md#spawning-robots).
   Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodeParams& params,
-            std::unique_ptr<sim::World> world);
+            ControllerParams controllers, std::unique_ptr<sim::World> world);
 
   /// Publishes the initial state, then steps until shutdown. Returns the exit status.
   int run();
@@ -106,8 +112,10 @@ class Simulator {
   // ---- controllers (simulator_controllers.cc, doc/node.md#controllers) ----
   /// Per running controller: `<name>/command` subscribed; for a trajectory controller
   /// `<name>/state` advertised with its state_publish_rate; for a joint state controller
-  /// /joint_states at its publish_rate instead of at the output ticks.
-  void startControllerTopics();
+  /// /joint_states at its publish_rate instead of at the output ticks. Called at start and after
+  /// every spawn and delete: the topics of controllers that no longer run are closed, those of
+  /// new ones opened, and /joint_states advertised once the world has joints.
+  void syncControllerTopics();
   /// /joint_states at the current step, at most once per stamp.
   void publishJointStates();
   /// After each step: the trajectory controllers' states at their ticks (`always`: at the
@@ -148,9 +156,10 @@ class Simulator {
   TickSchedule clock_ticks_;
   RealTimePacer pacer_;
 
-  /// The scene has articulated joints: /joint_states is advertised and published. Fixed at
-  /// start (~spawn_urdf adds single bodies only, so the set of joints never changes).
+  /// The world has had articulated joints: /joint_states is advertised and published (from
+  /// start, or from the first robot ~spawn_urdf adds; it stays advertised when robots go).
   bool has_joints_ = false;
+  ControllerParams controller_params_;
   bool paused_ = false;
   bool disturbed_ = false;
   std::uint64_t rejected_ = 0;
@@ -187,8 +196,12 @@ class Simulator {
   std::vector<::ros::Subscriber> subscribers_;
   std::vector<::ros::ServiceServer> services_;
 
-  /// One trajectory controller's `<name>/state` (index into World::data().controllers.running).
+  /// Per running controller (not joint state controllers), by name: its `<name>/command`.
+  std::map<std::string, ::ros::Subscriber> controller_commands_;
+  /// One trajectory controller's `<name>/state` (index into World::data().controllers.running,
+  /// kept in step with it by syncControllerTopics).
   struct ControllerState {
+    std::string name;
     std::size_t controller = 0;
     ::ros::Publisher publisher;
     TickSchedule ticks;

@@ -18,34 +18,53 @@ constexpr std::uint32_t kStateQueueSize = 1000;
 
 }  // namespace
 
-void Simulator::startControllerTopics() {
+void Simulator::syncControllerTopics() {
   const auto& running = world_->data().controllers.running;
   const double dt = world_->config().dt;
+  // /joint_states from the first joint on (a robot spawned into a scene without joints).
+  if (!has_joints_ && !world_->scene().joints.empty()) {
+    has_joints_ = true;
+    joint_states_pub_ = nh_.advertise<sensor_msgs::JointState>("/joint_states", kOutputQueueSize);
+  }
+  std::map<std::string, std::size_t> index;
+  for (std::size_t c = 0; c < running.size(); ++c) index[running[c].config.name] = c;
+  // Topics of controllers gone with their robot are closed (the handles' last copies go).
+  for (auto it = controller_commands_.begin(); it != controller_commands_.end();)
+    it = index.count(it->first) ? std::next(it) : controller_commands_.erase(it);
+  std::vector<ControllerState> states;
+  for (ControllerState& cs : controller_states_) {
+    const auto it = index.find(cs.name);
+    if (it == index.end()) continue;
+    cs.controller = it->second;
+    states.push_back(std::move(cs));
+  }
+  controller_states_ = std::move(states);
   for (std::size_t c = 0; c < running.size(); ++c) {
     const control::ControllerConfig& config = running[c].config;
     const std::string& name = config.name;
     if (config.type == control::ControllerType::kJointState) {
       // The node's own /joint_states then follows this rate (doc/node.md#controllers).
-      if (has_joints_) joint_state_ticks_.emplace(dt, config.publish_rate);
+      if (has_joints_ && !joint_state_ticks_) joint_state_ticks_.emplace(dt, config.publish_rate);
       continue;
     }
+    if (controller_commands_.count(name)) continue;
     if (control::isTrajectoryController(config.type)) {
-      subscribers_.push_back(nh_.subscribe<trajectory_msgs::JointTrajectory>(
+      controller_commands_[name] = nh_.subscribe<trajectory_msgs::JointTrajectory>(
           name + "/command", kInputQueueSize,
           [this, name](const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
             onTrajectoryCommand(name, msg);
-          }));
+          });
       controller_states_.push_back(
-          ControllerState{c,
+          ControllerState{name, c,
                           nh_.advertise<cga_rigid_sim::JointTrajectoryControllerState>(
                               name + "/state", kStateQueueSize),
                           TickSchedule(dt, config.publish_rate), UINT64_MAX, std::string()});
     } else {
-      subscribers_.push_back(nh_.subscribe<std_msgs::Float64MultiArray>(
+      controller_commands_[name] = nh_.subscribe<std_msgs::Float64MultiArray>(
           name + "/command", kInputQueueSize,
           [this, name](const std_msgs::Float64MultiArray::ConstPtr& msg) {
             onGroupCommand(name, msg);
-          }));
+          });
     }
   }
 }

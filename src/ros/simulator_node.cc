@@ -101,6 +101,6 @@ int main(int argc, char** argv) {
   pnh.setParam("self_collision_pairs", pairs);
   if (!node::startControllers(**world, *controllers)) return 1;
 
-  node::Simulator simulator(nh, pnh, *params, std::move(*world));
+  node::Simulator simulator(nh, pnh, *params, std::move(*controllers), std::move(*world));
   return simulator.run();
 }

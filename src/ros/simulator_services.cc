@@ -1,6 +1,8 @@
 // The node's services (simulator.h): pause, unpause, reset, clear_wrenches, step, body states,
 // spawn and delete, timed joint efforts (doc/node.md).
 #include "cga_rigid_sim/ros/conversions.h"
+#include "cga_rigid_sim/sim/data.h"
+#include "cga_rigid_sim/sim/model.h"
 #include "simulator.h"
 
 namespace cga_rigid_sim {
@@ -88,8 +90,18 @@ bool Simulator::onSetJointState(cga_rigid_sim::SetJointState::Request& req,
 
 bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
                             cga_rigid_sim::SpawnUrdf::Response& res) {
+  // A robot runs the node's ~spawn_controllers under its namespace.
+  sim::SpawnOptions options;
+  options.robot_namespace = req.robot_namespace;
+  if (!controller_params_.spawn_names.empty()) {
+    options.controllers = controller_params_.controllers;
+    options.controller_names = controller_params_.spawn_names;
+    options.pid_gains = controller_params_.pid_gains;
+  }
+  const std::size_t warnings = world_->scene().warnings.size();
   auto in = toPoseTwist(req.pose, req.twist, "spawn_urdf");
-  auto ok = in ? world_->spawnUrdf(req.name, req.urdf, in->pose_root, in->linear_W, in->angular_W)
+  auto ok = in ? world_->spawnUrdf(req.name, req.urdf, in->pose_root, in->linear_W, in->angular_W,
+                                   options)
                : Result<bool>(in.failure());
   res.success = ok.ok();
   markDisturbed();
@@ -98,9 +110,20 @@ bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
     refuse("spawn_urdf", ok.error());
     return true;
   }
+  const auto& all = world_->scene().warnings;
+  for (std::size_t k = warnings; k < all.size(); ++k) ROS_WARN("simulator: %s", all[k].c_str());
   publishStaticFrames();
   publishNewMovingFrames();
-  ROS_INFO("simulator: spawned '%s'", req.name.c_str());
+  syncControllerTopics();
+  std::string controllers;
+  if (world_->model().findRobot(req.name) >= 0)
+    for (const sim::ControllerData& c : world_->data().controllers.running)
+      if (!c.name_space.empty() && c.name_space == req.robot_namespace)
+        controllers += (controllers.empty() ? "; controllers " : ", ") + c.config.name;
+  ROS_INFO(
+      "simulator: spawned '%s'%s%s", req.name.c_str(),
+      req.robot_namespace.empty() ? "" : (" under namespace '" + req.robot_namespace + "'").c_str(),
+      controllers.c_str());
   return true;
 }
 
@@ -114,6 +137,7 @@ bool Simulator::onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
     return true;
   }
   publishStaticFrames();
+  syncControllerTopics();
   ROS_INFO("simulator: deleted '%s'", req.body.c_str());
   return true;
 }

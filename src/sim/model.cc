@@ -25,6 +25,19 @@ int Model::resolveBody(const std::string& name) const {
   return l != link_owner.end() ? l->second.first : -1;
 }
 
+int Model::findRobot(const std::string& name) const {
+  for (std::size_t r = 0; r < robots.size(); ++r)
+    if (robots[r].name == name) return static_cast<int>(r);
+  return -1;
+}
+
+int Model::robotOfBody(int j) const {
+  for (std::size_t r = 0; r < robots.size(); ++r)
+    if (j >= robots[r].first_body && j < robots[r].first_body + robots[r].body_count)
+      return static_cast<int>(r);
+  return -1;
+}
+
 int appendBody(Model& model, scene::BodyModel body) {
   const int j = static_cast<int>(model.scene.bodies.size());
   model.body_by_name[body.name] = j;

@@ -203,7 +203,7 @@ std::string worldSummary(const Model& model, const Data& data) {
 
 Error treeFaultError(const Model& m, const TreeFaults& f) {
   const std::vector<TreeModel>& trees = m.trees;
-  const bool known = f.tree < static_cast<int>(trees.size());
+  const bool known = f.tree >= 0 && f.tree < static_cast<int>(trees.size());
   const std::string who = known ? "tree '" + trees[f.tree].name + "'"
                                 : "a tree";  // (trees are not removed; a guard all the same)
   const auto bodyName = [&m](int j) {

@@ -10,30 +10,32 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-// The URDF's single moving body, renamed `name` (body and root link), or the refusal.
-// The loader's warnings (e.g. a relaxed inertia) are added to `warnings`.
-Result<scene::BodyModel> loadSpawnedBody(const Model& model, const std::string& name,
-                                         const std::string& urdf,
-                                         std::vector<std::string>& warnings) {
+// The URDF loaded with the world's λ, gravity, world frame and inertia rule (source
+// "spawn_urdf '<name>'").
+Result<scene::Scene> loadSpawned(const Model& model, const std::string& name,
+                                 const std::string& urdf) {
   scene::SceneOptions options;
   options.lambda = model.lambda;
   options.gravity_W = model.scene.gravity_W;
   options.world_frame = model.config.world_frame;
   options.triangle_policy = model.config.triangle_policy;
+  return scene::loadUrdfString(urdf, "spawn_urdf '" + name + "'", options);
+}
+
+// The URDF's single moving body, renamed `name` (body and root link), or the refusal.
+// The loader's warnings (e.g. a relaxed inertia) are added to `warnings`.
+Result<scene::BodyModel> spawnedBody(const Model& model, const std::string& name,
+                                     const scene::Scene& loaded,
+                                     std::vector<std::string>& warnings) {
   const std::string source = "spawn_urdf '" + name + "'";
-  auto loaded = scene::loadUrdfString(urdf, source, options);
-  if (!loaded) return loaded.failure();
   int moving = 0, fixed = 0;
-  for (const auto& b : loaded->bodies) (b.is_static ? fixed : moving) += 1;
+  for (const auto& b : loaded.bodies) (b.is_static ? fixed : moving) += 1;
   if (moving != 1 || fixed != 0)
     return Error(source, "",
                  "the URDF must hold exactly one body, a moving one (it has " +
-                     std::to_string(moving) + " moving and " + std::to_string(fixed) + " static)");
-  if (!loaded->joints.empty())
-    return Error(source, "",
-                 "the URDF has joints ('" + loaded->joints.front().name +
-                     "'): articulated trees cannot be spawned yet; load them with the scene");
-  scene::BodyModel body = loaded->bodies.front();
+                     std::to_string(moving) + " moving and " + std::to_string(fixed) +
+                     " static); with a robot_namespace it is spawned as a robot");
+  scene::BodyModel body = loaded.bodies.front();
   if (!body.inertia) return Error(source, "", "the body has no inertia");
   // The body and its root link take the new name (body name = root link name).
   body.name = name;
@@ -53,7 +55,7 @@ Result<scene::BodyModel> loadSpawnedBody(const Model& model, const std::string& 
     if (link == model.config.world_frame)
       return Error(source, "", "link '" + link + "' has the name of the world frame");
   }
-  warnings = loaded->warnings;
+  warnings = loaded.warnings;
   return body;
 }
 
@@ -61,18 +63,24 @@ Result<scene::BodyModel> loadSpawnedBody(const Model& model, const std::string& 
 
 Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const std::string& urdf,
                        const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,
-                       const Eigen::Vector3d& w_W) {
+                       const Eigen::Vector3d& w_W, const SpawnOptions& options) {
   const std::string what = "spawn_urdf";
   if (name.empty()) return Error(what, "name", "must not be empty");
   if (name == model.config.world_frame)
     return Error(what, "name", "'" + name + "' is the name of the world frame");
   if (model.body_by_name.count(name))
     return Error(what, "name", "body '" + name + "' already exists");
+  if (model.findRobot(name) >= 0) return Error(what, "name", "robot '" + name + "' already exists");
   if (auto e = checkStateInput(what, pose_root, v_W, w_W)) return *e;
+  auto scene = loadSpawned(model, name, urdf);
+  if (!scene) return scene.failure();
+  // A robot: joints, or a namespace asked for.
+  if (!options.robot_namespace.empty() || !scene->joints.empty())
+    return spawnRobot(model, data, name, options, std::move(*scene), pose_root, v_W, w_W);
   std::vector<std::string> warnings;
-  auto loaded = loadSpawnedBody(model, name, urdf, warnings);
-  if (!loaded) return loaded.failure();
-  scene::BodyModel body = std::move(loaded.value());
+  auto spawned = spawnedBody(model, name, *scene, warnings);
+  if (!spawned) return spawned.failure();
+  scene::BodyModel body = std::move(spawned.value());
   // The placement is its initial state for reset().
   const dynamics::BodyState s0 =
       scene::placedState(body.links.front().M_BL, pose_root, v_W, w_W, model.lambda);
@@ -93,8 +101,13 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
 }
 
 Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
+  if (const int r = model.findRobot(body); r >= 0) return deleteRobot(model, data, r);
   const int j = model.findBody(body);
   if (j < 0) return Error("delete_body", "body", "unknown body '" + body + "'");
+  if (const int r = model.robotOfBody(j); r >= 0)
+    return Error("delete_body", "body",
+                 "body '" + body + "' belongs to the spawned robot '" + model.robots[r].name +
+                     "' (delete the robot whole, by its name)");
   const int i = model.moving_of_body[j];
   // Trees: a link or the root of a tree, or the static body a tree hangs from, stays.
   if (i >= 0 && model.tree_of_moving[i] >= 0)
@@ -152,6 +165,10 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
     if (kv.second > j) --kv.second;
   for (auto& kv : model.link_owner)
     if (kv.second.first > j) --kv.second.first;
+  for (auto& r : model.robots) {  // robots spawned after it
+    if (r.first_body > j) --r.first_body;
+    if (i >= 0 && r.first_moving > i) --r.first_moving;
+  }
   ++model.topology_version;
   return true;
 }

@@ -8,16 +8,31 @@
 
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/sim/data.h"
+#include "cga_rigid_sim/sim/input/inputs.h"
 #include "cga_rigid_sim/sim/model.h"
 
 namespace cga_rigid_sim {
 namespace sim {
 
+/// World::spawnUrdf: a single body (no namespace, no joints) here, a robot by spawnRobot.
 Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const std::string& urdf,
                        const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,
-                       const Eigen::Vector3d& w_W);
+                       const Eigen::Vector3d& w_W, const SpawnOptions& options = {});
 
+/// World::deleteBody: a body, or a spawned robot whole (deleteRobot).
 Result<bool> deleteBody(Model& model, Data& data, const std::string& body);
+
+/// A loaded URDF (the world's λ, gravity, world frame) spawned as a robot named `name`
+/// (topology_robots.cc): prefixed, placed, compiled on its own and appended at the end of the
+/// Model and the Data; its controllers started. All or nothing.
+Result<bool> spawnRobot(Model& model, Data& data, const std::string& name,
+                        const SpawnOptions& options, scene::Scene robot,
+                        const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& v_W,
+                        const Eigen::Vector3d& w_W);
+
+/// Removes spawned robot `robot` (Model::robots index) with its bodies, joints, trees, their
+/// queued and active inputs and its controllers; the indices after them shift down.
+Result<bool> deleteRobot(Model& model, Data& data, int robot);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

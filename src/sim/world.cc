@@ -117,9 +117,10 @@ Result<bool> World::setBodyState(const std::string& body, const Eigen::Isometry3
 
 Result<bool> World::spawnUrdf(const std::string& name, const std::string& urdf,
                               const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& linear_W,
-                              const Eigen::Vector3d& angular_W) {
+                              const Eigen::Vector3d& angular_W, const SpawnOptions& options) {
   if (auto e = refuseInCurvedSpace(impl_->model, "spawn_urdf")) return *e;
-  return sim::spawnUrdf(impl_->model, impl_->data, name, urdf, pose_root, linear_W, angular_W);
+  return sim::spawnUrdf(impl_->model, impl_->data, name, urdf, pose_root, linear_W, angular_W,
+                        options);
 }
 
 Result<bool> World::deleteBody(const std::string& body) {

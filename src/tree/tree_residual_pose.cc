@@ -12,16 +12,23 @@ namespace dynamics {
 void MidpointResidual::prepare(const ArticulatedBody& tree) {
   if (tree_ == &tree && joints_ == tree.jointCount()) return;
   tree_ = &tree;
-  joints_ = tree.jointCount();
+  // The arrays a step leaves for the next one (the end pose's frames, the sines and cosines of
+  // ½q the next step starts from) are made anew only for a tree of another size. An integrator
+  // belongs to one tree, which may move in memory (a spawned robot before it deleted,
+  // World::deleteBody): its constants below are then recomputed to the same values, and the
+  // next step starts from what the last one left, as it would have.
+  if (joints_ != tree.jointCount()) {
+    joints_ = tree.jointCount();
+    body_.assign(joints_ + 1, Body());
+    frame_.assign(joints_ + 1, Frame());
+    root_frame_.assign(joints_ + 1, Frame());
+    root_screw_.assign(joints_, Screw());
+    composite_.assign(joints_ + 1, Composite());
+    sin_half_.assign(joints_, 0.0);
+    cos_half_.assign(joints_, 1.0);
+  }
   const double lambda = tree.lambda();
   joint_.assign(joints_, Joint());
-  body_.assign(joints_ + 1, Body());
-  frame_.assign(joints_ + 1, Frame());
-  root_frame_.assign(joints_ + 1, Frame());
-  root_screw_.assign(joints_, Screw());
-  composite_.assign(joints_ + 1, Composite());
-  sin_half_.assign(joints_, 0.0);
-  cos_half_.assign(joints_, 1.0);
   for (int k = 0; k < joints_; ++k) {
     Joint& j = joint_[k];
     const TreeJoint& tj = tree.joints()[k];

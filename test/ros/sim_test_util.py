@@ -110,8 +110,10 @@ class Simulator(object):
     def set_state(self, state):
         return self._set(state)
 
-    def spawn(self, name, urdf, pose, twist):
-        return self._spawn(name, urdf, pose, twist)
+    def spawn(self, name, urdf, pose, twist, robot_namespace=''):
+        # By keyword: a request built from positional arguments must give every field.
+        return self._spawn(name=name, urdf=urdf, pose=pose, twist=twist,
+                           robot_namespace=robot_namespace)
 
     def delete(self, body):
         return self._delete(body)

@@ -45,9 +45,16 @@ struct SelfCollision {
     return binarySearch(key);
   }
   /// Body j removed (World::deleteBody): indices after it shift down. j is in no robot.
-  void eraseBody(int j);
+  void eraseBody(int j) { eraseBodies(j, 1); }
+  /// Bodies [first, first + count) removed (a spawned robot deleted): their pairs go, indices
+  /// after them shift down.
+  void eraseBodies(int first, int count);
   /// A body appended (spawned free body): in no robot.
   void appendBody() { robot_of_body.push_back(-1); }
+  /// The table of a robot compiled on its own (a spawned robot) for its bodies, appended at
+  /// body indices first_body… (where appendBody already put them, in no robot): its robots get
+  /// labels no robot here has, its pairs are shifted by first_body.
+  void appendRobot(const SelfCollision& robot, int first_body);
 
  private:
   bool binarySearch(const std::pair<int, int>& key) const;

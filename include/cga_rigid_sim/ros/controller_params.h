@@ -24,6 +24,9 @@ struct ControllerParams {
   /// controller_manager's spawner takes them. Empty (or unset): no controller runs.
   std::vector<std::string> names;
   bool set = false;  ///< ~controllers was given (perhaps empty)
+  /// `~spawn_controllers` (the same forms): the controllers a robot spawned by ~spawn_urdf
+  /// runs under its namespace (doc/node.md#spawning-robots); unset: those of ~controllers.
+  std::vector<std::string> spawn_names;
   /// Controller name → its dictionary: the named ones, and every other entry of the namespace
   /// with a `type` (so a misspelt name is answered with the controllers there are).
   scene::ParamValue controllers;
@@ -33,10 +36,10 @@ struct ControllerParams {
   std::string prefix;
 };
 
-/// Reads `~controllers` from `pnh` and the controllers' dictionaries from `nh`'s namespace.
-/// Errors name the parameter and the form ("~controllers[1]: expected a controller name (a
-/// string), got int"); a dictionary the parameter server holds in a form the core cannot take
-/// (date/time, binary) is refused naming its path.
+/// Reads `~controllers` and `~spawn_controllers` from `pnh` and the controllers' dictionaries from
+/// `nh`'s namespace. Errors name the parameter and the form ("~controllers[1]: expected a
+/// controller name (a string), got int"); a dictionary the parameter server holds in a form the
+/// core cannot take (date/time, binary) is refused naming its path.
 Result<ControllerParams> readControllerParams(const ::ros::NodeHandle& nh,
                                               const ::ros::NodeHandle& pnh);
 

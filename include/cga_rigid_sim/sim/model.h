@@ -52,6 +52,18 @@ struct TreeModel {
   int movingOf(int b) const { return b == 0 ? base_moving : link_moving[b - 1]; }
 };
 
+/// A robot spawned at run time (World::spawnUrdf with a robot_namespace or joints,
+/// doc/node.md#spawning-robots): its bodies, joints and trees, each a contiguous range of the
+/// Model's (a robot is appended at the end; deleting anything before it shifts its ranges).
+struct RobotModel {
+  std::string name;        ///< the robot's name (World::deleteBody removes it whole by it)
+  std::string name_space;  ///< prefixed to its links and joints ("r1" → "r1/link1"), or empty
+  int first_body = 0, body_count = 0;      ///< body indices j
+  int first_moving = 0, moving_count = 0;  ///< moving indices i
+  int first_joint = 0, joint_count = 0;    ///< scene.joints indices
+  int first_tree = 0, tree_count = 0;      ///< trees indices
+};
+
 struct Model {
   WorldConfig config;
   /// Set when config.curvature is (sim/curved_bodies.h).
@@ -73,6 +85,9 @@ struct Model {
   /// Which pairs of one robot's bodies collide (decided when the World is made).
   SelfCollision self_collision;
 
+  /// The robots spawned at run time, in the order they were spawned.
+  std::vector<RobotModel> robots;
+
   /// Name look-ups (inputs and reports; never used by the step).
   std::map<std::string, int> body_by_name;                // body name → j
   std::map<std::string, std::pair<int, int>> link_owner;  // link → (j, link index in the body)
@@ -84,6 +99,10 @@ struct Model {
   int resolveBody(const std::string& name) const;
   /// The body index of a body given by its name only; −1.
   int findBody(const std::string& name) const;
+  /// The index in `robots` of the robot called `name`; −1.
+  int findRobot(const std::string& name) const;
+  /// The index in `robots` of the spawned robot body j belongs to; −1.
+  int robotOfBody(int j) const;
   /// The scene body of moving body i.
   const scene::BodyModel& bodyOf(int i) const { return scene.bodies[moving[i].body]; }
 };

@@ -133,11 +133,23 @@ class World {
   /// link are renamed `name` (body name = root link name, as for loaded scenes). Refuses an
   /// empty or existing name, a link name the world already has, and what setBodyState refuses.
   /// Bumps topologyVersion().
+  ///
+  /// A URDF with joints, or any URDF with options.robot_namespace set, is spawned as a robot
+  /// called `name` (doc/node.md#spawning-robots): its links and joints named
+  /// "<robot_namespace>/<URDF name>", compiled as a scene is, appended after everything the
+  /// world has (no index of it changes, nothing it simulates is touched), and its controllers
+  /// started from options (loadControllers' rules, names prefixed). pose_root places the URDF's
+  /// root link — for a robot fixed to the world (its root link is the world frame), that frame,
+  /// and the velocities must then be zero; for a free robot its root body, its links following
+  /// at rest in their joints. Also refused, world unchanged: a namespace that is not a ROS name,
+  /// a link, joint or controller name the world has, the scene rules of compileModel.
   Result<bool> spawnUrdf(const std::string& name, const std::string& urdf,
                          const Eigen::Isometry3d& pose_root, const Eigen::Vector3d& linear_W,
-                         const Eigen::Vector3d& angular_W);
-  /// Removes a body (moving or static, by its name) with its active and queued inputs. Refuses
-  /// an unknown name. Bumps topologyVersion().
+                         const Eigen::Vector3d& angular_W, const SpawnOptions& options = {});
+  /// Removes a body (moving or static, by its name) with its active and queued inputs, or a
+  /// spawned robot whole (by its name) with its joints, their inputs and its controllers.
+  /// Refuses an unknown name and a body of a tree or of a spawned robot. Bumps
+  /// topologyVersion().
   Result<bool> deleteBody(const std::string& body);
 
   /// Articulated trees (doc/articulated.md). Joint names are the URDF's.

@@ -53,6 +53,16 @@ Result<bool> queueTrajectory(const Model& model, Data& data, const std::string& 
     return Error(input, "",
                  "controller '" + controller + "' is a " + control::typeName(cd.config.type) +
                      ", not a trajectory controller (it takes std_msgs/Float64MultiArray)");
+  // A spawned robot's controller takes its joints by their names in the URDF too, as a
+  // controller in a robot's namespace has them under Gazebo.
+  if (!cd.name_space.empty()) {
+    const std::string prefix = cd.name_space + "/";
+    control::JointTrajectory named = trajectory;
+    bool renamed = false;
+    for (std::string& joint : named.joint_names)
+      if (joint.compare(0, prefix.size(), prefix) != 0) joint = prefix + joint, renamed = true;
+    if (renamed) return queueTrajectory(model, data, controller, named);
+  }
   if (auto valid = control::validate(trajectory); !valid)
     return Error(input, valid.failure().field, valid.failure().rule);
   const double dt = model.config.dt;

@@ -136,28 +136,25 @@ Result<bool> start(const Model& model, const Data& data, ControllerData& out) {
 
 }  // namespace
 
-Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
-                                                 const scene::ParamValue& controllers,
-                                                 const std::vector<std::string>& names,
-                                                 const scene::ParamValue& pid_gains) {
-  auto set = control::parseControllers(controllers, names);
-  if (!set) return set.failure();
-  control::PidGainsSet pid;
-  if (!pid_gains.isNone()) {
-    auto parsed = control::parsePidGains(pid_gains);
-    if (!parsed) return parsed.failure();
-    pid = std::move(*parsed);
-  }
-  std::vector<std::string> warnings = set->warnings;
+namespace {
+
+// Adds the controllers of `set` with the servo gains `pid`, all or nothing; their names and
+// joints as they are. `name_space` is recorded in each (ControllerData::name_space).
+Result<std::vector<std::string>> addControllers(const Model& model, Data& data,
+                                                const control::ControllerSet& set,
+                                                const control::PidGainsSet& pid,
+                                                const std::string& name_space) {
+  std::vector<std::string> warnings = set.warnings;
   warnings.insert(warnings.end(), pid.warnings.begin(), pid.warnings.end());
   // Every controller is checked before any is added: a refusal leaves the world as it was.
   ControllersData next = data.controllers;
-  for (const control::ControllerConfig& c : set->controllers) {
+  for (const control::ControllerConfig& c : set.controllers) {
     for (const ControllerData& other : next.running)
       if (other.config.name == c.name)
         return Error(kInput, c.name, "a controller of that name is already running");
     ControllerData cd;
     cd.config = c;
+    cd.name_space = name_space;
     if (c.type != control::ControllerType::kJointState) {
       if (auto placed = placeJoints(model, next, c, cd); !placed) return placed.failure();
       if (auto chosen = chooseGains(model, data, pid, cd, warnings); !chosen)
@@ -173,6 +170,104 @@ Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
     if (!servos.active()) servos.resize(model.trees[cd.tree].body.jointCount());
   }
   return warnings;
+}
+
+// A map keyed by joint names with the keys prefixed.
+template <class T>
+std::map<std::string, T> prefixedKeys(const std::map<std::string, T>& by_joint,
+                                      const std::string& prefix) {
+  std::map<std::string, T> out;
+  for (const auto& [joint, value] : by_joint) out.emplace(prefix + joint, value);
+  return out;
+}
+
+// The YAML's controllers `names` and its pid_gains (none: no gains), as control/ reads them.
+struct Parsed {
+  control::ControllerSet set;
+  control::PidGainsSet pid;
+};
+Result<Parsed> parse(const scene::ParamValue& controllers, const std::vector<std::string>& names,
+                     const scene::ParamValue& pid_gains) {
+  Parsed out;
+  auto set = control::parseControllers(controllers, names);
+  if (!set) return set.failure();
+  out.set = std::move(*set);
+  if (!pid_gains.isNone()) {
+    auto pid = control::parsePidGains(pid_gains);
+    if (!pid) return pid.failure();
+    out.pid = std::move(*pid);
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
+                                                 const scene::ParamValue& controllers,
+                                                 const std::vector<std::string>& names,
+                                                 const scene::ParamValue& pid_gains) {
+  auto parsed = parse(controllers, names, pid_gains);
+  if (!parsed) return parsed.failure();
+  return addControllers(model, data, parsed->set, parsed->pid, "");
+}
+
+Result<std::vector<std::string>> loadRobotControllers(const Model& model, Data& data, int robot,
+                                                      const scene::ParamValue& controllers,
+                                                      const std::vector<std::string>& names,
+                                                      const scene::ParamValue& pid_gains) {
+  const RobotModel& r = model.robots[robot];
+  auto parsed = parse(controllers, names, pid_gains);
+  if (!parsed) return parsed.failure();
+  const control::ControllerSet& set = parsed->set;
+  control::PidGainsSet& pid = parsed->pid;
+  const std::string prefix = r.name_space.empty() ? "" : r.name_space + "/";
+  pid.gains = prefixedKeys(pid.gains, prefix);
+  const auto ours = [&model, &r](const std::string& joint) {
+    const auto it = model.joint_by_name.find(joint);
+    return it != model.joint_by_name.end() && it->second.first >= r.first_tree &&
+           it->second.first < r.first_tree + r.tree_count;
+  };
+  control::ControllerSet robot_set;
+  robot_set.warnings = set.warnings;
+  for (control::ControllerConfig c : set.controllers) {
+    if (c.type == control::ControllerType::kJointState) continue;
+    std::size_t have = 0;
+    for (std::string& joint : c.joints) {
+      joint = prefix + joint;
+      have += ours(joint) ? 1 : 0;
+    }
+    if (have == 0) continue;  // a controller of another robot
+    c.name = prefix + c.name;
+    c.gains = prefixedKeys(c.gains, prefix);
+    c.velocity_ff = prefixedKeys(c.velocity_ff, prefix);
+    c.constraints.joints = prefixedKeys(c.constraints.joints, prefix);
+    robot_set.controllers.push_back(std::move(c));
+  }
+  return addControllers(model, data, robot_set, pid, r.name_space);
+}
+
+void removeControllersOfTrees(Data& data, int first_tree, int count) {
+  ControllersData& cs = data.controllers;
+  std::vector<int> new_index(cs.running.size(), -1);
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < cs.running.size(); ++c) {
+    ControllerData& cd = cs.running[c];
+    if (cd.tree >= first_tree && cd.tree < first_tree + count) continue;
+    if (cd.tree >= first_tree + count) cd.tree -= count;
+    new_index[c] = static_cast<int>(kept);
+    if (kept != c) cs.running[kept] = std::move(cd);
+    ++kept;
+  }
+  cs.running.resize(kept);
+  std::size_t out = 0;
+  for (std::size_t k = 0; k < cs.waiting.size(); ++k) {
+    ControllerCommand& command = cs.waiting[k];
+    if (new_index[command.controller] < 0) continue;
+    command.controller = new_index[command.controller];
+    if (out != k) cs.waiting[out] = std::move(command);
+    ++out;
+  }
+  cs.waiting.resize(out);
 }
 
 void resetControllers(const Model& model, Data& data) {

@@ -28,6 +28,19 @@ Result<std::vector<std::string>> loadControllers(const Model& model, Data& data,
                                                  const scene::ParamValue& controllers,
                                                  const std::vector<std::string>& names,
                                                  const scene::ParamValue& pid_gains);
+/// The controllers `names` (empty: all) of `controllers` instantiated for the spawned robot
+/// `robot` (doc/control.md#spawned-robots): each one's name and joints prefixed by the robot's
+/// namespace ("r1/arm_controller", joints "r1/joint1"; pid_gains and per-joint gains and
+/// constraints likewise). Joint state controllers are passed over (/joint_states carries every
+/// joint), so is a controller none of whose joints the robot has; one that has some but not all
+/// is refused. All or nothing. Returns the warnings.
+Result<std::vector<std::string>> loadRobotControllers(const Model& model, Data& data, int robot,
+                                                      const scene::ParamValue& controllers,
+                                                      const std::vector<std::string>& names,
+                                                      const scene::ParamValue& pid_gains);
+/// Removes the controllers of trees [first_tree, first_tree + count) with their waiting
+/// commands; the trees after them shift down (a spawned robot deleted).
+void removeControllersOfTrees(Data& data, int first_tree, int count);
 /// Drops waiting commands; every controller holds the (reset) pose, integrals at zero.
 void resetControllers(const Model& model, Data& data);
 

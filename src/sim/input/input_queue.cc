@@ -97,5 +97,16 @@ void InputQueue::removeBody(int body) {
     if (static_cast<std::size_t>(body) < v->size()) v->erase(v->begin() + body);
 }
 
+void InputQueue::removeTree(int tree) {
+  removeIf([tree](const QueuedInput& q) {
+    return q.tree == tree &&
+           (q.kind != QueuedInput::Kind::kWrench && q.kind != QueuedInput::Kind::kImpulse);
+  });
+  for (auto& q : heap_)
+    if (q.tree > tree) --q.tree;
+  for (auto* v : {&tree_inputs_, &tree_timed_})
+    if (static_cast<std::size_t>(tree) < v->size()) v->erase(v->begin() + tree);
+}
+
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -20,6 +20,9 @@ namespace sim {
 /// One running controller.
 struct ControllerData {
   control::ControllerConfig config;
+  /// A spawned robot's controller: the robot's namespace, which prefixes its name and joints
+  /// (doc/control.md#spawned-robots); empty otherwise.
+  std::string name_space;
   int tree = -1;            ///< the tree of its joints (−1: the joint state controller)
   std::vector<int> joints;  ///< their indices in the tree, in config.joints' order
   std::vector<control::ServoGains> gains;      ///< per joint: the servo law it drives

@@ -81,6 +81,9 @@ class InputQueue {
   /// Drops the inputs of moving body `body` and renumbers the bodies after it (body − 1), as
   /// when that body is deleted.
   void removeBody(int body);
+  /// Drops the joint inputs of tree `tree` and renumbers the trees after it (tree − 1), as when
+  /// a spawned robot with that tree is deleted.
+  void removeTree(int tree);
 
  private:
   static std::size_t countAt(const std::vector<std::size_t>& v, int i) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/cga/force.h"
+#include "cga_rigid_sim/scene/param_value.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -77,6 +78,21 @@ struct JointStateInput {
   std::vector<double> positions;   ///< rad or m
   std::vector<double> velocities;  ///< rad/s or m/s; empty = all 0
   double stamp = 0.0;              ///< sim time, s; 0 = the next step
+};
+
+/// What World::spawnUrdf takes besides the body's name, URDF and placement
+/// (doc/node.md#spawning-robots). A URDF with joints, or any URDF given a namespace, is spawned
+/// as a robot: every link and joint is named "<robot_namespace>/<its URDF name>", and the
+/// controllers below are started for it under the namespace.
+struct SpawnOptions {
+  /// A ROS name ("r1", "cell/r1"); empty: names as the URDF has them.
+  std::string robot_namespace;
+  /// The ros_control dictionary, controller names and pid_gains of World::loadControllers; a
+  /// robot runs those of its controllers whose joints it has (doc/control.md#spawned-robots).
+  /// None and no names: no controller.
+  scene::ParamValue controllers;
+  std::vector<std::string> controller_names;
+  scene::ParamValue pid_gains;
 };
 
 }  // namespace sim
