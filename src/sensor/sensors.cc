@@ -254,8 +254,9 @@ std::vector<sim::ContactReport> Sensors::contacts(std::size_t k, const sim::Worl
     if (c.link_b == link && c.link_a != link) {
       std::swap(c.body_a, c.body_b);
       std::swap(c.link_a, c.link_b);
+      // b's view: the normal turned to point towards the link; the normal impulse along it on
+      // the link keeps its value, the friction impulse on the link is the opposite of a's.
       c.normal = -c.normal;
-      c.normal_impulse = c.normal_impulse;  // along the turned normal, on the link: the same
       c.friction_impulse = -c.friction_impulse;
     } else if (c.link_a != link) {
       continue;

@@ -65,14 +65,14 @@ std::string robot() {
   </robot>)";
 }
 
-std::unique_ptr<sim::World> driveWorld() {
+std::unique_ptr<sim::World> driveWorld(double mu = 1.0) {
   scene::SceneOptions options;
   options.initial_state = Map{{"base", Map{{"position", List{0.0, 0.0, 0.1}}}}};
   auto scene = scene::loadUrdfString(robot(), "diffbot.urdf", options);
   EXPECT_TRUE(scene) << scene.error();
   sim::WorldConfig config;
   config.ground_plane = sim::GroundPlane{};
-  config.ground_plane->surface.mu = 1.0;
+  config.ground_plane->surface.mu = mu;
   auto world = sim::World::create(std::move(*scene), config);
   EXPECT_TRUE(world) << world.error();
   // The node's drive: a velocity group controller on the wheels, p = 10 × wheelTorque.
@@ -123,6 +123,29 @@ TEST(DiffDrive, FollowsTheUnicycleAndItsWheelOdometryTheTruth) {
   EXPECT_NEAR(odom.x - start.x, moved.x(), 0.01 * v);
   EXPECT_NEAR(odom.y - start.y, moved.y(), 0.01 * v);
   EXPECT_NEAR(std::remainder(odom.theta - yaw, 2 * M_PI), 0.0, 0.01 * w);
+}
+
+TEST(DiffDrive, WheelOdometryDriftsFromTheTruthWhenTheWheelsSlip) {
+  // Truth: on ice (μ = 0.02) the ground can push the 7 kg robot forward by at most μ m g ≈ 1.4 N,
+  // 0.2 m/s²: over 1 s it gains at most 0.2 m/s, while its wheels, servoed to 2 m/s within a
+  // few steps (5 N m at 0.1 m radius against their own small inertia), spin at that speed. The
+  // wheel odometry, which assumes rolling, runs ahead of the truth by more than half.
+  auto world = driveWorld(0.02);
+  const double r = 0.1, b = 0.4;
+  ASSERT_TRUE(world->commandGroup("wheels", {2.0 / r, 2.0 / r}));
+  const Eigen::Vector3d x0 = world->getBodyState("base")->pose_root.translation();
+  PlanarPose odom;
+  double left = wheelAngle(*world, "left_joint"), right = wheelAngle(*world, "right_joint");
+  for (int k = 0; k < 100; ++k) {
+    world->step(10);
+    const double l = wheelAngle(*world, "left_joint"), rr = wheelAngle(*world, "right_joint");
+    odom = integrateWheels(odom, (l - left) * r, (rr - right) * r, b);
+    left = l, right = rr;
+  }
+  const double moved = (world->getBodyState("base")->pose_root.translation() - x0).norm();
+  EXPECT_LT(moved, 0.5 * 0.2 * 1.0 + 1e-3);  // ½ a t² with a ≤ μ g, and a margin of 1 mm
+  EXPECT_GT(odom.x, 1.5);                    // the wheels turned as at ~2 m/s
+  EXPECT_GT(odom.x - moved, 0.5 * odom.x);
 }
 
 }  // namespace

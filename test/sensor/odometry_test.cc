@@ -115,6 +115,38 @@ TEST(Bumper, ListsExactlyTheContactsOfItsLink) {
   for (const auto& c : mine) EXPECT_EQ(c.link_a, "a");
 }
 
+TEST(Bumper, OnAStaticLinkTurnsItsContactsToPutItOnSideA) {
+  // A box resting on a static table whose link has the bumper: the World reports each contact
+  // with the moving box as side a; the bumper's list is the same contacts with the sides
+  // swapped, the normal turned (from the box towards the table: down) and the friction impulse
+  // negated, the normal impulse unchanged.
+  const std::string urdf = R"(<robot name="t"><link name="world"/>
+    <link name="table"><collision><geometry><box size="1 1 0.1"/></geometry></collision></link>
+    <joint name="fix" type="fixed"><parent link="world"/><child link="table"/><origin xyz="0 0 0.5"/></joint>
+    <link name="box"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+      <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+    <joint name="free" type="floating"><parent link="world"/><child link="box"/></joint>
+    <gazebo reference="table"><sensor name="bump" type="contact">
+      <plugin name="p" filename="libgazebo_ros_bumper.so"><bumperTopicName>table_bumper</bumperTopicName></plugin></sensor></gazebo>
+    </robot>)";
+  auto world = makeWorld(urdf, {}, Map{{"box", Map{{"position", List{0.0, 0.0, 0.66}}}}});
+  Sensors sensors(*world, 1);
+  world->step(300);
+  const auto all = world->contacts();
+  const auto mine = sensors.contacts(0, *world);
+  ASSERT_GT(all.size(), 0u);
+  ASSERT_EQ(mine.size(), all.size());
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    EXPECT_EQ(all[k].link_b, "table");
+    EXPECT_EQ(mine[k].link_a, "table");
+    EXPECT_EQ(mine[k].link_b, "box");
+    EXPECT_EQ(mine[k].normal, -all[k].normal);
+    EXPECT_LT(mine[k].normal.z(), -0.99);
+    EXPECT_EQ(mine[k].normal_impulse, all[k].normal_impulse);
+    EXPECT_EQ(mine[k].friction_impulse, -all[k].friction_impulse);
+  }
+}
+
 }  // namespace
 }  // namespace sensor
 }  // namespace cga_rigid_sim
