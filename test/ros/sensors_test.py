@@ -23,7 +23,11 @@ Truths:
     velocity servos hold it (ground truth moves < 1 mm in 0.5 s); cmd_vel (0.5 m/s forward)
     drives it at 0.5 m/s (2 %) after 1.5 s, /odom (the skid steer reports the true pose, as the
     plugin does) equals /ground_truth/odom at the same stamp (1e-9), and /imu reads +g up
-    (0.2 m/s^2: the chassis rides on its wheels' contacts) once at cruise.
+    (0.2 m/s^2: the chassis rides on its wheels' contacts) once at cruise;
+  - the force-torque sensor at the shoulder of an arm at rest (test/ros/ft_arm.urdf) publishes
+    geometry_msgs/WrenchStamped every 10 steps, frame the upper arm, with the weight below,
+    (0, 0, 3 g) N, and its moment about the shoulder, (0, -1.4 g, 0) N m (1e-9: at rest the
+    momenta change only by rounding).
 """
 import math
 import os
@@ -34,7 +38,7 @@ import unittest
 import rospy
 import rostest
 from cga_rigid_sim.msg import ContactArray
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import Twist, WrenchStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
@@ -167,6 +171,19 @@ class Sensors(unittest.TestCase):
         self.assertAlmostEqual(o.twist.twist.linear.x, 0.5, delta=0.01)
         a = imu.at(end).linear_acceleration
         self.assertLess(math.sqrt(a.x ** 2 + a.y ** 2 + (a.z - G) ** 2), 0.2, str(a))
+
+    def test_force_torque_at_the_shoulder_of_an_arm_at_rest(self):
+        sim = Simulator('/arm/simulator')
+        ft = Listener('/arm/ft', WrenchStamped)
+        end = sim.step(100)
+        wait_until(lambda: end in ft.by_stamp, what='ft at step 100')
+        self.assertEqual(ft.stamps(), [rospy.Time(0, s * NS) for s in range(10, 101, 10)])
+        msg = ft.at(end)
+        self.assertEqual(msg.header.frame_id, 'upper')
+        f, t = msg.wrench.force, msg.wrench.torque
+        for got, want in [(f.x, 0.0), (f.y, 0.0), (f.z, 3 * G), (t.x, 0.0), (t.y, -1.4 * G),
+                          (t.z, 0.0)]:
+            self.assertAlmostEqual(got, want, delta=1e-9)
 
 
 if __name__ == '__main__':
