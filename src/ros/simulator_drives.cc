@@ -128,6 +128,7 @@ void Simulator::publishDrives() {
     Eigen::Quaterniond attitude;
     if (d.model.odometry_from_world) {
       auto state = world_->getBodyState(d.base_link);
+      if (!state) continue;  // the robot was deleted (~delete_body): no odometry
       const Eigen::Isometry3d& X = state->pose_root;
       position = X.translation();
       attitude = Eigen::Quaterniond(X.linear());

@@ -96,6 +96,7 @@ void Simulator::publishSensors() {
   const std::uint64_t s = world_->stepCount();
   const ::ros::Time stamp = toRosTime(world_->time());
   for (SensorTopic& t : sensor_topics_) {
+    if (!sensors_->present(t.sensor)) continue;  // its body was deleted
     const scene::SensorModel& m = sensors_->model(t.sensor);
     const std::uint64_t n = t.ticks.tickOf(s);
     if (t.ticks.isTick(s) && t.last_step != s && t.publisher.getNumSubscribers() > 0) {

@@ -27,8 +27,13 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
   for (const scene::SensorModel& s : world.scene().sensors.sensors) {
     Entry e;
     e.model = s;
+    e.stream = k++ * kStreamsPerSensor;
     const auto owner = model.link_owner.find(s.link);
-    if (owner == model.link_owner.end()) continue;  // the loader checked every link: not reached
+    if (owner == model.link_owner.end()) {
+      // Its body was deleted (~delete_body): the sensor stays, reading nothing (present()).
+      entries_.push_back(std::move(e));
+      continue;
+    }
     e.body = owner->second.first;
     e.moving = model.moving_of_body[e.body];
     e.X_BL = model.scene.bodies[e.body].links[owner->second.second].M_BL.toIsometry(lambda);
@@ -42,7 +47,6 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
       }
     }
     if (s.kind == scene::SensorKind::kForceTorque) resolveJoint(world, &e);
-    e.stream = k * kStreamsPerSensor;
     for (int a = 0; a < 3; ++a) {
       e.angular_velocity[a] =
           NoisyChannel(s.angular_velocity_noise[a], seed, e.stream + kAngularStream + a);
@@ -52,7 +56,6 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
     const dynamics::BodyState now = stateOf(e.moving, e.body, world);
     e.initial_orientation = now.M_WB.rotation() * Eigen::Quaterniond(e.X_BS.linear());
     entries_.push_back(std::move(e));
-    ++k;
   }
 }
 
@@ -94,6 +97,7 @@ dynamics::BodyState Sensors::bodyState(std::size_t k, const sim::World& world) c
 
 void Sensors::remember(std::size_t k, const sim::World& world) {
   Entry& e = entries_[k];
+  if (e.body < 0) return;
   e.before = stateOf(e.moving, e.body, world);
   for (std::size_t b = 0; b < e.subtree.size(); ++b)
     e.subtree_before[b] = world.movingState(e.subtree[b]);
@@ -101,7 +105,7 @@ void Sensors::remember(std::size_t k, const sim::World& world) {
 }
 
 bool Sensors::ready(std::size_t k, const sim::World& world) const {
-  return entries_[k].before_step + 1 == world.stepCount();
+  return entries_[k].body >= 0 && entries_[k].before_step + 1 == world.stepCount();
 }
 
 ImuSample Sensors::imu(std::size_t k, const sim::World& world, std::uint64_t n) const {

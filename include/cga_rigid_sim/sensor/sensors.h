@@ -55,6 +55,9 @@ class Sensors {
   Sensors(const sim::World& world, std::uint64_t seed);
 
   std::size_t size() const { return entries_.size(); }
+  /// Whether sensor k's link is in the World (a deleted body's sensors read nothing; the
+  /// readings below require it).
+  bool present(std::size_t k) const { return entries_[k].body >= 0; }
   const scene::SensorModel& model(std::size_t k) const { return entries_[k].model; }
 
   /// Sensor k remembers the World's current step: the start of the difference its next sample
