@@ -13,10 +13,11 @@ set(CGA_RIGID_SIM_CORE_FOLDERS
   contact      # detection, landing, rows, islands, the solver, resting, sleep, tree contacts
   sim          # the World: model, data, compile, the step's stages
   sim/input    # inputs from outside: admission, the queue, efforts, wrenches
-  sim/controllers)  # the World's joint controllers: loading, commands, the control stage
+  sim/controllers  # the World's joint controllers: loading, commands, the control stage
+  sensor)          # sensors read from the World after a step: IMU, odometry, contacts; noise
 # Test folders: math/ (header-only kernels) has tests but no sources; test/sim/ includes its
 # sub-folder input/, test/scene/ its sub-folder urdf/.
-set(CGA_RIGID_SIM_TEST_FOLDERS math cga body tree curved scene control contact sim)
+set(CGA_RIGID_SIM_TEST_FOLDERS math cga body tree curved scene control contact sim sensor)
 
 # cga_rigid_sim_core_sources(<out-var> <root> <folder>...): the .cc files of the folders.
 function(cga_rigid_sim_core_sources out root)

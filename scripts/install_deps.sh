@@ -50,6 +50,7 @@ if [[ -d /opt/ros/noetic || $os_id == ubuntu:20.04 ]] ||
     ros-noetic-rostopic ros-noetic-rosservice ros-noetic-roslaunch ros-noetic-rostest
     ros-noetic-rosunit ros-noetic-rosbash
     ros-noetic-sensor-msgs ros-noetic-trajectory-msgs ros-noetic-robot-state-publisher
+    ros-noetic-nav-msgs
     ros-noetic-visualization-msgs ros-noetic-rviz
     ros-noetic-fcl)  # FCL ≥ 0.6 (Ubuntu 20.04's libfcl-dev is 0.5, another API)
 else
@@ -63,6 +64,7 @@ else
     python3-rostopic python3-rosservice python3-std-msgs python3-geometry-msgs python3-std-srvs
     python3-rosgraph-msgs python3-tf2-msgs python3-tf2-ros
     libsensor-msgs-dev python3-sensor-msgs ros-sensor-msgs
+    libnav-msgs-dev python3-nav-msgs ros-nav-msgs  # ground-truth odometry (doc/sensors.md)
     # controllers' commands and states (doc/node.md#controllers); Python for the rostests
     libtrajectory-msgs-dev python3-trajectory-msgs ros-trajectory-msgs
     ros-robot-state-publisher  # test/ros/robot_state_publisher.test

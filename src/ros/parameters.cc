@@ -233,6 +233,7 @@ const std::vector<std::string>& knownPrivateParams() {
       "urdf_file", "initial_state", "integrator", "dt", "gravity", "real_time_factor",
       "publish_rate", "publish_clock", "clock_rate", "world_frame", "paused", "lambda", "max_force",
       "max_impulse", "relax_inertia", "threads", "curvature", "controllers", "spawn_controllers",
+      "sensor_seed",
       // contacts
       "ground_plane", "contact_mu", "contact_restitution", "contact_sleeping", "self_collision",
       "srdf_file", "self_collision_pairs",
@@ -372,6 +373,9 @@ Result<NodeParams> readNodeParams(const ::ros::NodeHandle& nh, const ::ros::Node
   if (p.real_time_factor < 0.0)
     return Error{"~real_time_factor: must be >= 0 (0 = as fast as possible)"};
   CGA_RIGID_SIM_READ(readNumber(pnh, "publish_rate", &p.publish_rate, "100.0"));
+  int sensor_seed = 0;
+  CGA_RIGID_SIM_READ(readWhole(pnh, "sensor_seed", &sensor_seed, 0, 2147483647, "1"));
+  p.sensor_seed = static_cast<std::uint64_t>(sensor_seed);
   if (!(p.publish_rate > 0.0)) return Error{"~publish_rate: must be > 0 Hz"};
   CGA_RIGID_SIM_READ(readBool(pnh, "publish_clock", &p.publish_clock));
   CGA_RIGID_SIM_READ(readNumber(pnh, "clock_rate", &p.clock_rate, "1000.0"));

@@ -44,7 +44,7 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
       paused_(params.paused) {
   // The configuration is said before anything is advertised: a client that sees a service up
   // has seen these lines too.
-  // A joint state controller publishes /joint_states at its own rate (startControllerTopics).
+  // A joint state controller publishes /joint_states at its own rate (syncControllerTopics).
   bool joint_state_controller = false;
   for (const auto& c : world_->data().controllers.running)
     joint_state_controller |= c.config.type == control::ControllerType::kJointState;
@@ -123,7 +123,9 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
   services_.push_back(
       pnh_.advertiseService("apply_joint_effort", &Simulator::onApplyJointEffort, this));
+  startDrives();  // before the controllers' topics, which leave the drives' controllers out
   syncControllerTopics();
+  startSensorTopics();
 }
 
 }  // namespace node

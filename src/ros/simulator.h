@@ -29,6 +29,7 @@
 #include <cga_rigid_sim/SetJointState.h>
 #include <cga_rigid_sim/SpawnUrdf.h>
 #include <cga_rigid_sim/Step.h>
+#include <geometry_msgs/Twist.h>
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
@@ -48,6 +49,8 @@
 #include "cga_rigid_sim/ros/controller_params.h"
 #include "cga_rigid_sim/ros/markers.h"
 #include "cga_rigid_sim/ros/parameters.h"
+#include "cga_rigid_sim/sensor/sensors.h"
+#include "cga_rigid_sim/sensor/wheel_odometry.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "pacing.h"
 #include "reused_message.h"
@@ -126,6 +129,22 @@ class Simulator {
                            const trajectory_msgs::JointTrajectory::ConstPtr& msg);
   void onGroupCommand(const std::string& controller,
                       const std_msgs::Float64MultiArray::ConstPtr& msg);
+
+  // ---- sensors (simulator_sensors.cc, doc/sensors.md#in-the-node) ----
+  /// Advertises each sensor the URDF declares on its plugin's topic.
+  void startSensorTopics();
+  /// After each step: the sensors due at this step, for the topics with subscribers; the
+  /// differentiating ones remember the step before their next sample.
+  void publishSensors();
+  /// Drops what the sensors remembered (after a reset: no difference across the jump).
+  void forgetSensors();
+  // ---- drives (simulator_drives.cc, doc/sensors.md#drives) ----
+  /// Per drive: its wheels' velocity controller loaded, commandTopic subscribed, odometry
+  /// advertised.
+  void startDrives();
+  void onCmdVel(std::size_t drive, const geometry_msgs::Twist::ConstPtr& msg);
+  /// After each step: each drive's odometry (and tf) at its update rate.
+  void publishDrives();
 
   // ---- callbacks ----
   void onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg);
@@ -209,6 +228,29 @@ class Simulator {
     std::string last_reason;               ///< of the last abort logged
   };
   std::vector<ControllerState> controller_states_;
+  /// The sensors (none when the URDF declares none) and one topic per simulated sensor.
+  std::unique_ptr<sensor::Sensors> sensors_;
+  std::uint64_t sensors_version_ = 0;  ///< the topology version they were made for
+  struct SensorTopic {
+    std::size_t sensor = 0;
+    ::ros::Publisher publisher;
+    TickSchedule ticks;
+    std::uint64_t last_step = UINT64_MAX;
+  };
+  std::vector<SensorTopic> sensor_topics_;
+  /// One base drive: its wheels' controller, cmd_vel, wheel odometry.
+  struct Drive {
+    scene::DriveModel model;
+    std::string controller;  ///< the velocity group controller of its wheels
+    std::string base_link;   ///< the wheels' parent link (odometrySource world)
+    ::ros::Publisher odometry;
+    TickSchedule ticks{1.0, 1.0};
+    bool publish_tf = false;
+    std::uint64_t last_step = UINT64_MAX;              ///< of the last tick
+    double left_position = 0.0, right_position = 0.0;  ///< mean wheel angles then, rad
+    sensor::PlanarPose pose;                           ///< dead-reckoned in the odometry frame
+  };
+  std::vector<Drive> drives_;
   /// A joint_state_controller's publish_rate, when one runs: /joint_states at its ticks.
   std::optional<TickSchedule> joint_state_ticks_;
   std::uint64_t last_joint_states_step_ = UINT64_MAX;

@@ -5,6 +5,8 @@
 // simulation time, queued for their step, refused whole with the field and the rule.
 #include <cga_rigid_sim/JointTrajectoryControllerState.h>
 
+#include <algorithm>
+
 #include "cga_rigid_sim/ros/conversions.h"
 #include "cga_rigid_sim/sim/data.h"
 #include "simulator.h"
@@ -42,6 +44,11 @@ void Simulator::syncControllerTopics() {
   for (std::size_t c = 0; c < running.size(); ++c) {
     const control::ControllerConfig& config = running[c].config;
     const std::string& name = config.name;
+    // A drive's wheel controller (simulator_drives.cc) takes its commands from the drive's
+    // cmd_vel, not from a command topic of its own.
+    if (std::any_of(drives_.begin(), drives_.end(),
+                    [&](const Drive& d) { return d.controller == name; }))
+      continue;
     if (config.type == control::ControllerType::kJointState) {
       // The node's own /joint_states then follows this rate (doc/node.md#controllers).
       if (has_joints_ && !joint_state_ticks_) joint_state_ticks_.emplace(dt, config.publish_rate);

@@ -101,6 +101,8 @@ void Simulator::publishAfterStep() {
   if (output_ticks_.isTick(s)) publishOutputs();
   if (joint_state_ticks_ && joint_state_ticks_->isTick(s)) publishJointStates();
   publishControllerStates();
+  publishSensors();
+  publishDrives();
 }
 
 void Simulator::noteTreeFaults() {

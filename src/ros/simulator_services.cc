@@ -22,6 +22,7 @@ bool Simulator::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 
 bool Simulator::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   world_->reset();
+  forgetSensors();
   markDisturbed();
   return true;
 }

@@ -182,6 +182,28 @@ void pathsSection(std::ostream& os, const std::map<std::string, std::size_t>& pa
   os << "\n";
 }
 
+std::string rateText(double rate) {
+  return rate > 0 ? formatNumber(rate, 6) + " Hz" : std::string("every step");
+}
+
+// Each sensor and drive the URDF declares: its kind, where it sits, its topic and rate.
+void sensorsSection(std::ostream& os, const Scene& scene) {
+  if (scene.sensors.empty()) return;
+  os << "sensors:\n";
+  for (const SensorModel& s : scene.sensors.sensors) {
+    os << "  " << toString(s.kind) << " " << inQuotes(s.name) << " (" << s.plugin << ") on "
+       << (s.joint.empty() ? "link " + s.link : "joint " + s.joint) << " -> " << s.topic << " at "
+       << rateText(s.update_rate) << "\n";
+  }
+  for (const DriveModel& d : scene.sensors.drives) {
+    os << "  " << (d.kind == DriveKind::kDifferential ? "diff_drive " : "skid_steer_drive ")
+       << inQuotes(d.name) << " (" << d.plugin << ") wheels";
+    for (const auto& j : d.left_joints) os << " " << j;
+    for (const auto& j : d.right_joints) os << " " << j;
+    os << ": " << d.command_topic << " -> " << d.odometry_topic << "\n";
+  }
+}
+
 void warningsSection(std::ostream& os, const Scene& scene) {
   if (scene.warnings.empty()) return;
   os << "warnings (" << scene.warnings.size() << "):\n";
@@ -199,6 +221,7 @@ std::string sceneSummary(const Scene& scene, const std::string& integrator,
   bodiesSection(os, scene, integrator, options, paths);
   jointsSection(os, scene, options);
   pathsSection(os, paths);
+  sensorsSection(os, scene);
   warningsSection(os, scene);
   return os.str();
 }

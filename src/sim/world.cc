@@ -100,6 +100,11 @@ void World::reset() {
   resetControllers(impl_->model, impl_->data);
 }
 
+const dynamics::BodyState& World::movingState(int i) const {
+  syncBody(impl_->model, impl_->data, i);
+  return impl_->data.bodies[i].state;
+}
+
 Result<BodyStateReport> World::getBodyState(const std::string& body) const {
   const int j = impl_->model.resolveBody(body);
   if (j < 0) return Error("get_body_state", "body", "unknown body '" + body + "'");

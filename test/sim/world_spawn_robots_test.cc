@@ -19,7 +19,7 @@
 
 namespace cga_rigid_sim {
 namespace sim {
-namespace {
+namespace world_spawn_robots_test {
 
 using scene::ParamValue;
 
@@ -449,6 +449,6 @@ TEST(WorldSpawnRobots, RefusalsLeaveTheWorldBitIdentical) {
   }
 }
 
-}  // namespace
+}  // namespace world_spawn_robots_test
 }  // namespace sim
 }  // namespace cga_rigid_sim

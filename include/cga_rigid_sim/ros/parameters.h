@@ -7,6 +7,7 @@
 #include <ros/node_handle.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ struct NodeParams {
   bool publish_clock = true;      ///< ~publish_clock
   double clock_rate = 0.0;        ///< ~clock_rate: Hz (sim); 0 = every step
   bool paused = false;            ///< ~paused: start paused
+  /// ~sensor_seed: keys the sensors' noise (doc/sensors.md#noise); same seed, same noise.
+  std::uint64_t sensor_seed = 0;
   MarkerScale markers;  ///< ~marker_length, ~marker_{angular_momentum,angular_velocity,force}_ref
 };
 

@@ -20,6 +20,7 @@
 #include "cga_rigid_sim/scene/collision_shape.h"
 #include "cga_rigid_sim/scene/joint.h"
 #include "cga_rigid_sim/scene/self_collision.h"
+#include "cga_rigid_sim/scene/sensors.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -57,6 +58,8 @@ struct Scene {
   /// Which pairs of one robot's links may collide: Gazebo's <self_collide> from the URDF, an
   /// SRDF's rules (srdf.h); combined with the mode when a World is made (self_collision.h).
   SelfCollisionRules self_collision;
+  /// Gazebo's sensors and base drives the URDF declares (sensors.h, doc/sensors.md).
+  SensorSet sensors;
   std::vector<std::string> warnings;  ///< e.g. relaxed triangle inequality
 
   /// Index of the joint with that name, or -1.

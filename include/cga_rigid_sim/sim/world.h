@@ -94,6 +94,9 @@ class World {
   std::uint64_t stepCount() const;
   /// Simulation time t = stepCount·dt, s.
   double time() const;
+  /// Moving body i's state (model().moving[i]) at the current step, a coasting body's evaluated
+  /// first: what the sensors read (doc/sensors.md). One body, not data()'s every body.
+  const dynamics::BodyState& movingState(int i) const;
 
   /// Advances one step: the pipeline of stages (sim/stages.h). Allocation-free.
   void step();

@@ -232,6 +232,7 @@ Result<Scene> Loader::load(const std::string& xml) {
   placeJointChildren(scene);
   scene.self_collision.gazebo_model = xml_.self_collide_model;
   scene.self_collision.gazebo_links = std::move(xml_.self_collide_links);
+  scene.sensors = std::move(xml_.sensors);
   scene.warnings = std::move(xml_.warnings);
   scene.warnings.insert(scene.warnings.end(), warnings_.begin(), warnings_.end());
 

@@ -2,7 +2,8 @@
 // that implement it — urdf_xml.cc (the document, its bounds, the extension's placement, the number
 // syntax), urdf_xml_links.cc (links, the mass extension), urdf_xml_joints.cc (joints, mimic
 // chains), urdf_xml_tree.cc (the tree check) and urdf_xml_collision.cc (collision geometry,
-// contact parameters, Gazebo's friction and <self_collide>).
+// contact parameters, Gazebo's friction and <self_collide>) and urdf_xml_gazebo.cc (Gazebo's
+// sensors and model plugins).
 #pragma once
 
 #include <tinyxml2.h>
@@ -86,6 +87,26 @@ class Reader {
   void readGazebo(const XMLElement* e);
   std::optional<Error> readSelfCollide(const XMLElement* e);
   std::optional<Error> applyGazeboFriction();
+  // Sensors and drives (urdf_xml_gazebo.cc), once every link and joint is known.
+  std::optional<Error> readGazeboSensors(const XMLElement* gazebo);
+  std::optional<Error> readSensor(const XMLElement* e, const std::string& reference);
+  std::optional<Error> readModelPlugin(const XMLElement* p);
+  std::optional<Error> readDrive(const XMLElement* p, const std::string& file,
+                                 const std::string& name);
+  std::optional<Error> readNoise(const XMLElement* holder, const std::string& owner,
+                                 GaussianNoise* noise);
+  std::optional<Error> readSensorPose(const XMLElement* sensor, const std::string& owner,
+                                      Eigen::Isometry3d* X_LS) const;
+  std::optional<Error> readGazeboNumber(const XMLElement* parent, const char* name,
+                                        const std::string& owner, bool non_negative,
+                                        double* out) const;
+  std::optional<Error> readGazeboTriple(const XMLElement* parent, const char* name,
+                                        const std::string& owner, Eigen::Vector3d* out) const;
+  std::optional<Error> readGazeboBool(const XMLElement* parent, const char* name,
+                                      const std::string& owner, bool* out) const;
+  void warn(int line, const std::string& what);
+  bool isLink(const std::string& name) const;
+  const JointEdge* findEdge(const std::string& joint) const;
   std::optional<Error> readLink(const XMLElement* e, int order);
   std::optional<Error> readJoint(const XMLElement* e, int order);
   // <axis>, <limit> and <dynamics> of a revolute, continuous or prismatic joint.

@@ -107,6 +107,7 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
   if (!robot_name) return fail(robot->GetLineNum(), "the <robot> element has no name attribute");
   out_.robot_name = robot_name;
   int order = 0;
+  std::vector<const XMLElement*> gazebo;  // read once every link and joint is known
   for (const XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement(), ++order) {
     const bool is_link = std::strcmp(e->Name(), "link") == 0;
     const bool is_joint = std::strcmp(e->Name(), "joint") == 0;
@@ -124,6 +125,7 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
       if (auto err = readJoint(e, order)) return *err;
     } else if (std::strcmp(e->Name(), "gazebo") == 0) {
       readGazebo(e);
+      gazebo.push_back(e);
       if (auto err = readSelfCollide(e)) return *err;
     }
   }
@@ -136,6 +138,8 @@ Result<UrdfXml> Reader::read(const std::string& xml) {
     if (!out_.links.count(link))
       return fail(line, "<gazebo reference=" + inQuotes(link) + "> gives <self_collide>, but " +
                             inQuotes(link) + " is not a link of this URDF");
+  for (const XMLElement* e : gazebo)
+    if (auto err = readGazeboSensors(e)) return *err;
   return std::move(out_);
 }
 

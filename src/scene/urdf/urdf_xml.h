@@ -7,7 +7,8 @@
 // pass checks what the loader relies on and names the file, the line, the link or joint and the
 // rule. It also reads every <collision> (the links' collision shapes, collision_shape.h), the
 // extension elements <cga_rigid_sim:mass_from_geometry> and <cga_rigid_sim:contact> (urdfdom
-// ignores unknown elements), and the friction of Gazebo's <gazebo reference="link"><mu1>/<mu2>.
+// ignores unknown elements), the friction of Gazebo's <gazebo reference="link"><mu1>/<mu2>, and
+// Gazebo's sensors and model plugins (scene/sensors.h).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -20,6 +21,7 @@
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/collision_shape.h"
 #include "cga_rigid_sim/scene/joint.h"
+#include "cga_rigid_sim/scene/sensors.h"
 
 namespace cga_rigid_sim {
 namespace scene {
@@ -91,6 +93,8 @@ struct UrdfXml {
   /// Gazebo's <self_collide>: the model's (<gazebo> without reference) and each link's.
   std::optional<bool> self_collide_model;
   std::map<std::string, bool> self_collide_links;
+  /// Gazebo's sensors and drives (<gazebo><sensor>, model <plugin>s), document order.
+  SensorSet sensors;
   std::vector<std::string> warnings;  ///< e.g. Gazebo's mu1 and mu2 differ
 };
 

@@ -1,0 +1,152 @@
+// Ground-truth odometry (gazebo_ros_p3d, sensor/sensors.h) and the bumper's contacts. Truth for
+// the odometry: the link's pose as the World reports it (getBodyState's root link pose) and its
+// origin's velocity by a second method, the central difference of that pose over ±1 step; for
+// the bumper: the World's own contact list, filtered by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "cga_rigid_sim/scene/urdf/urdf_loader.h"
+#include "cga_rigid_sim/sensor/sensors.h"
+#include "cga_rigid_sim/sim/world.h"
+
+namespace cga_rigid_sim {
+namespace sensor {
+namespace odometry_test {
+
+using Map = scene::ParamValue::Map;
+using List = scene::ParamValue::List;
+
+std::unique_ptr<sim::World> makeWorld(const std::string& urdf, sim::WorldConfig config = {},
+                                      scene::ParamValue initial = {}) {
+  scene::SceneOptions options;
+  options.initial_state = std::move(initial);
+  auto scene = scene::loadUrdfString(urdf, "odometry_test.urdf", options);
+  EXPECT_TRUE(scene) << scene.error();
+  auto world = sim::World::create(std::move(*scene), config);
+  EXPECT_TRUE(world) << world.error();
+  return std::move(*world);
+}
+
+// A body whose centre of mass sits 0.2 m off its link's origin (so the origin's velocity has an
+// ω × r part), with a p3d on it.
+std::string offCentre(const std::string& p3d) {
+  return R"(<robot name="r"><link name="body"><inertial><origin xyz="0.2 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <gazebo><plugin name="truth" filename="libgazebo_ros_p3d.so"><bodyName>body</bodyName>
+    <topicName>odom_truth</topicName>)" +
+         p3d + "</plugin></gazebo></robot>";
+}
+
+TEST(GroundTruthOdometry, PoseAndTwistOfTheLinkOrigin) {
+  auto world = makeWorld(offCentre(""), {},
+                         Map{{"body", Map{{"angular_velocity", List{0.5, -1.0, 2.0}},
+                                          {"linear_velocity", List{1.0, 0.0, 3.0}}}}});
+  Sensors sensors(*world, 3);
+  world->step(300);
+  const Eigen::Isometry3d before = world->getBodyState("body")->pose_root;
+  world->step();
+  const OdometrySample o = sensors.odometry(0, *world, 0);
+  const Eigen::Isometry3d now = world->getBodyState("body")->pose_root;
+  world->step();
+  const Eigen::Isometry3d after = world->getBodyState("body")->pose_root;
+  // The pose is the World's, bit for bit up to the motor → matrix conversion (a few ε).
+  EXPECT_LT((o.X_RL.matrix() - now.matrix()).norm(), 1e-14);
+  // Central difference: error (h²/6) |d³x/dt³| ≈ 1e-6 · ω³ r ≈ 1e-6 · 12 · 0.2 < 1e-5 m/s.
+  const double h = world->config().dt;
+  const Eigen::Vector3d v_fd = (after.translation() - before.translation()) / (2 * h);
+  EXPECT_LT((o.linear_R - v_fd).norm(), 1e-5)
+      << o.linear_R.transpose() << " vs " << v_fd.transpose();
+  // ω from the rotation's central difference: R(t+h) R(t−h)ᵀ ≈ exp(2h [ω]×).
+  const Eigen::AngleAxisd turn(after.linear() * before.linear().transpose());
+  const Eigen::Vector3d w_fd = turn.angle() * turn.axis() / (2 * h);
+  EXPECT_LT((o.angular_R - w_fd).norm(), 1e-5)
+      << o.angular_R.transpose() << " vs " << w_fd.transpose();
+}
+
+TEST(GroundTruthOdometry, OffsetsAndNoiseAsP3dDeclaresThem) {
+  // xyzOffsets add to the position; gaussianNoise σ adds N(0, σ²) to each position and velocity
+  // component, reproducibly per (seed, sample).
+  auto plain = makeWorld(offCentre(""));
+  auto shifted =
+      makeWorld(offCentre("<xyzOffsets>1 2 3</xyzOffsets><gaussianNoise>0.5</gaussianNoise>"));
+  Sensors a(*plain, 3), b(*shifted, 3);
+  const OdometrySample oa = a.odometry(0, *plain, 7), ob = b.odometry(0, *shifted, 7),
+                       ob2 = b.odometry(0, *shifted, 7), ob8 = b.odometry(0, *shifted, 8);
+  EXPECT_EQ(ob.X_RL.translation(), ob2.X_RL.translation());
+  EXPECT_NE(ob.X_RL.translation(), ob8.X_RL.translation());
+  // Noise of σ = 0.5 on three components: far below 10σ, and not zero.
+  const Eigen::Vector3d d =
+      ob.X_RL.translation() - oa.X_RL.translation() - Eigen::Vector3d(1, 2, 3);
+  EXPECT_LT(d.norm(), 5.0 * std::sqrt(3.0));
+  EXPECT_GT(d.norm(), 0.0);
+}
+
+TEST(Bumper, ListsExactlyTheContactsOfItsLink) {
+  // Two boxes on the ground, one with a bumper: the bumper lists the World's contacts whose
+  // side a or b is its link, turned so that its link is side a, and no other.
+  const std::string box =
+      R"(<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>)";
+  const std::string urdf = R"(<robot name="two"><link name="world"/>
+    <link name="a">)" + box +
+                           R"(</link><link name="b">)" + box + R"(</link>
+    <joint name="ja" type="floating"><parent link="world"/><child link="a"/></joint>
+    <joint name="jb" type="floating"><parent link="world"/><child link="b"/><origin xyz="1 0 0"/></joint>
+    <gazebo reference="a"><sensor name="bump" type="contact"><contact><collision>a_collision</collision></contact>
+      <plugin name="p" filename="libgazebo_ros_bumper.so"><bumperTopicName>bumper_a</bumperTopicName></plugin></sensor></gazebo>
+    </robot>)";
+  sim::WorldConfig config;
+  config.ground_plane = sim::GroundPlane{};
+  auto world = makeWorld(urdf, config,
+                         Map{{"a", Map{{"position", List{0.0, 0.0, 0.1}}}},
+                             {"b", Map{{"position", List{1.0, 0.0, 0.1}}}}});
+  Sensors sensors(*world, 1);
+  world->step(200);
+  const auto all = world->contacts();
+  const auto mine = sensors.contacts(0, *world);
+  std::size_t expected = 0;
+  for (const auto& c : all) expected += (c.link_a == "a" || c.link_b == "a") ? 1 : 0;
+  ASSERT_GT(expected, 0u);
+  EXPECT_LT(expected, all.size());  // b's contacts exist and are left out
+  EXPECT_EQ(mine.size(), expected);
+  for (const auto& c : mine) EXPECT_EQ(c.link_a, "a");
+}
+
+TEST(Bumper, OnAStaticLinkTurnsItsContactsToPutItOnSideA) {
+  // A box resting on a static table whose link has the bumper: the World reports each contact
+  // with the moving box as side a; the bumper's list is the same contacts with the sides
+  // swapped, the normal turned (from the box towards the table: down) and the friction impulse
+  // negated, the normal impulse unchanged.
+  const std::string urdf = R"(<robot name="t"><link name="world"/>
+    <link name="table"><collision><geometry><box size="1 1 0.1"/></geometry></collision></link>
+    <joint name="fix" type="fixed"><parent link="world"/><child link="table"/><origin xyz="0 0 0.5"/></joint>
+    <link name="box"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+      <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+    <joint name="free" type="floating"><parent link="world"/><child link="box"/></joint>
+    <gazebo reference="table"><sensor name="bump" type="contact">
+      <plugin name="p" filename="libgazebo_ros_bumper.so"><bumperTopicName>table_bumper</bumperTopicName></plugin></sensor></gazebo>
+    </robot>)";
+  auto world = makeWorld(urdf, {}, Map{{"box", Map{{"position", List{0.0, 0.0, 0.66}}}}});
+  Sensors sensors(*world, 1);
+  world->step(300);
+  const auto all = world->contacts();
+  const auto mine = sensors.contacts(0, *world);
+  ASSERT_GT(all.size(), 0u);
+  ASSERT_EQ(mine.size(), all.size());
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    EXPECT_EQ(all[k].link_b, "table");
+    EXPECT_EQ(mine[k].link_a, "table");
+    EXPECT_EQ(mine[k].link_b, "box");
+    EXPECT_EQ(mine[k].normal, -all[k].normal);
+    EXPECT_LT(mine[k].normal.z(), -0.99);
+    EXPECT_EQ(mine[k].normal_impulse, all[k].normal_impulse);
+    EXPECT_EQ(mine[k].friction_impulse, -all[k].friction_impulse);
+  }
+}
+
+}  // namespace odometry_test
+}  // namespace sensor
+}  // namespace cga_rigid_sim
