@@ -199,7 +199,7 @@ struct TreeFaults {
     kMomentum,   ///< a floating tree's momentum changed by more than the external impulses
   };
   std::uint64_t count = 0;
-  int tree = -1;  ///< the last one's tree (the Model's index; past the end once deleted)
+  int tree = -1;           ///< the last one's tree (the Model's index; past the end once deleted)
   std::uint64_t step = 0;  ///< the step it happened in (1 = the first step)
   Rule rule = Rule::kNotFinite;
   int joint = -1;      ///< kLimit: the joint's index in the tree
