@@ -149,8 +149,8 @@ void Simulator::publishSensors() {
       }
     }
     // The IMU and the force-torque sensor differentiate over the step before each sample: they
-    // remember that step whether
-    // or not anyone listens (one body state copied), so a subscriber's first sample is there.
+    // remember that step whether or not anyone listens (one body state copied), so a
+    // subscriber's first sample is there.
     if (differentiates(m.kind) && t.ticks.isTick(s + 1)) sensors_->remember(t.sensor, *world_);
   }
 }

@@ -2,6 +2,7 @@
 #include "cga_rigid_sim/sensor/sensors.h"
 
 #include "cga_rigid_sim/body/derived.h"
+#include "cga_rigid_sim/math/rpy.h"
 
 namespace cga_rigid_sim {
 namespace sensor {
@@ -10,13 +11,6 @@ namespace {
 // Noise streams per sensor: the SDF channels of each axis, then the plugin's gaussianNoise.
 constexpr std::uint64_t kStreamsPerSensor = 16;
 constexpr std::uint64_t kAngularStream = 0, kLinearStream = 3, kPluginStream = 6;
-
-Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
 
 }  // namespace
 
@@ -76,6 +70,8 @@ void Sensors::resolveJoint(const sim::World& world, Entry* e) {
       e->subtree.push_back(tree.movingOf(b));
     }
   e->subtree_before.resize(e->subtree.size());
+  e->in_subtree.assign(model.moving.size(), false);
+  for (int i : e->subtree) e->in_subtree[i] = true;
   const scene::JointModel& jm = model.scene.joints[tree.scene_joint[k]];
   e->parent_body = jm.parent_body;
   const auto parent = model.link_owner.find(jm.parent_link);
@@ -167,7 +163,7 @@ OdometrySample Sensors::odometry(std::size_t k, const sim::World& world, std::ui
   }
   // gazebo_ros_p3d's offsets: xyzOffsets added to the position, rpyOffsets turning the attitude.
   o.X_RL.translation() += e.model.xyz_offset;
-  o.X_RL.linear() = rotationFromRpy(e.model.rpy_offset) * o.X_RL.linear();
+  o.X_RL.linear() = math::rotationFromRpy(e.model.rpy_offset) * o.X_RL.linear();
   if (const double sigma = e.model.gaussian_noise; sigma > 0) {
     // As gazebo_ros_p3d: on the position and both velocities (not the attitude).
     const std::uint64_t stream = e.stream + kPluginStream;
@@ -192,10 +188,9 @@ WrenchSample Sensors::wrench(std::size_t k, const sim::World& world, std::uint64
   const Eigen::Isometry3d X_WC = stateOf(e.moving, e.body, world).M_WB.toIsometry(lambda) * e.X_BL;
   const Eigen::Vector3d p = X_WC.translation();
   Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
-  std::vector<bool> in_subtree(model.moving.size(), false);
+  const std::vector<bool>& in_subtree = e.in_subtree;
   for (std::size_t b = 0; b < e.subtree.size(); ++b) {
     const int i = e.subtree[b];
-    in_subtree[i] = true;
     const dynamics::Inertia& I = model.moving[i].inertia;
     const dynamics::BodyState& s0 = e.subtree_before[b];
     const dynamics::BodyState& s1 = world.movingState(i);

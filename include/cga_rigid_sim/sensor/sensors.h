@@ -99,9 +99,11 @@ class Sensors {
     Eigen::Isometry3d X_RB_L = Eigen::Isometry3d::Identity();  ///< p3d: reference link in its body
     std::array<NoisyChannel, 3> angular_velocity, linear_acceleration;
     std::uint64_t stream = 0;  ///< the plugin's gaussianNoise stream
-    /// force_torque: the moving bodies below the joint (its child first), their states one
-    /// step ago, and the joint's parent body (−1: the world; for its frame).
+    /// force_torque: the moving bodies below the joint (its child first), whether each moving
+    /// body is one of them (by moving index), their states one step ago, and the joint's parent
+    /// body (−1: the world; for its frame).
     std::vector<int> subtree;
+    std::vector<bool> in_subtree;
     std::vector<dynamics::BodyState> subtree_before;
     int parent_body = -1;
     Eigen::Isometry3d X_PL = Eigen::Isometry3d::Identity();  ///< parent link in its body

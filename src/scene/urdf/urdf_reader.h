@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/format.h"
+#include "cga_rigid_sim/math/rpy.h"
 #include "cga_rigid_sim/result.h"
 #include "scene/urdf/urdf_xml.h"
 
@@ -39,13 +40,7 @@ inline bool parseTriple(const char* text, Eigen::Vector3d* out) {
   return n == 3;
 }
 
-// Fixed-axis roll, pitch, yaw as URDF defines them: R = Rz(yaw) Ry(pitch) Rx(roll).
-inline Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
+using math::rotationFromRpy;
 
 class Reader {
  public:
