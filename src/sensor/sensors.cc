@@ -1,6 +1,8 @@
 // The sensors of a World at run time (sensors.h, doc/sensors.md).
 #include "cga_rigid_sim/sensor/sensors.h"
 
+#include <algorithm>
+
 #include "cga_rigid_sim/body/derived.h"
 #include "cga_rigid_sim/math/rpy.h"
 
@@ -24,7 +26,7 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
     e.stream = k++ * kStreamsPerSensor;
     const auto owner = model.link_owner.find(s.link);
     if (owner == model.link_owner.end()) {
-      // Its body was deleted (~delete_body): the sensor stays, reading nothing (present()).
+      // Its link is in no body (not expected: a delete takes its sensors out): it reads nothing.
       entries_.push_back(std::move(e));
       continue;
     }
@@ -32,7 +34,9 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
     e.moving = model.moving_of_body[e.body];
     e.X_BL = model.scene.bodies[e.body].links[owner->second.second].M_BL.toIsometry(lambda);
     e.X_BS = e.X_BL * s.X_LS;
-    if (s.kind == scene::SensorKind::kGroundTruth && s.reference_link != "world") {
+    if (s.kind == scene::SensorKind::kContact) resolveCollisions(world, owner->second.second, &e);
+    if ((s.kind == scene::SensorKind::kGroundTruth || s.kind == scene::SensorKind::kContact) &&
+        !s.reference_link.empty() && s.reference_link != "world") {
       const auto ref = model.link_owner.find(s.reference_link);
       if (ref != model.link_owner.end()) {
         e.reference_body = ref->second.first;
@@ -50,6 +54,17 @@ Sensors::Sensors(const sim::World& world, std::uint64_t seed) : seed_(seed) {
     const dynamics::BodyState now = stateOf(e.moving, e.body, world);
     e.initial_orientation = now.M_WB.rotation() * Eigen::Quaterniond(e.X_BS.linear());
     entries_.push_back(std::move(e));
+  }
+}
+
+// A bumper's collision shapes: the link's (its k-th alone when the sensor names one).
+void Sensors::resolveCollisions(const sim::World& world, int link, Entry* e) {
+  const std::vector<scene::CollisionShape>& shapes = world.model().scene.bodies[e->body].shapes;
+  int k = 0;
+  for (std::size_t j = 0; j < shapes.size(); ++j) {
+    if (shapes[j].link_index != link) continue;
+    if (e->model.collision < 0 || e->model.collision == k) e->shapes.push_back(static_cast<int>(j));
+    ++k;
   }
 }
 
@@ -207,19 +222,35 @@ WrenchSample Sensors::wrench(std::size_t k, const sim::World& world, std::uint64
     force += (P1 - P0) / h - weight;
     torque += (L1 - L0) / h - (x_mid - p).cross(weight);
   }
+  // Wrenches applied to the subtree's links (~apply_wrench), at the step's mean pose (the mean
+  // of its ends, as for gravity).
+  for (std::size_t b = 0; b < e.subtree.size(); ++b) {
+    const dynamics::Loads& loads = world.lastLoads(e.subtree[b]);
+    for (const dynamics::AppliedLoad& l : loads.applied())
+      for (const dynamics::BodyState* s :
+           {&e.subtree_before[b], &world.movingState(e.subtree[b])}) {
+        const Eigen::Isometry3d X_WB = s->M_WB.toIsometry(lambda);
+        const bool world_axes = l.axes == dynamics::Axes::kWorld;
+        const Eigen::Vector3d f_W = world_axes ? l.F.f : Eigen::Vector3d(X_WB.linear() * l.F.f);
+        const Eigen::Vector3d c_W =
+            world_axes ? l.couple : Eigen::Vector3d(X_WB.linear() * l.couple);
+        force -= 0.5 * f_W;
+        torque -= 0.5 * ((X_WB * l.point_B - p).cross(f_W) + c_W);
+      }
+  }
   // Contact impulses of the step on the subtree's links, as their mean force.
-  for (const sim::ContactReport& c : world.contacts()) {
-    auto movingOfLink = [&](const std::string& link) {
-      const auto owner = model.link_owner.find(link);
-      return owner == model.link_owner.end() ? -1 : model.moving_of_body[owner->second.first];
+  for (const sim::Contact& c : world.lastContacts()) {
+    const auto inSubtree = [&](int j) {
+      if (j == sim::kGroundPlane) return false;
+      const int i = model.moving_of_body[j];
+      return i >= 0 && in_subtree[i];
     };
-    const int a = movingOfLink(c.link_a), b = movingOfLink(c.link_b);
-    const bool on_a = a >= 0 && in_subtree[a], on_b = b >= 0 && in_subtree[b];
+    const bool on_a = inSubtree(c.body_a), on_b = inSubtree(c.body_b);
     if (on_a == on_b) continue;  // outside, or inside on both sides
-    const Eigen::Vector3d f = (c.normal_impulse * c.normal + c.friction_impulse) / h;
+    const Eigen::Vector3d f = (c.normal_impulse * c.normal_W + c.friction_impulse_W) / h;
     const Eigen::Vector3d f_sub = on_a ? f : Eigen::Vector3d(-f);
     force -= f_sub;
-    torque -= (c.point - p).cross(f_sub);
+    torque -= (c.point_W - p).cross(f_sub);
   }
   // The wrench on the child from the parent, about p in world axes. Its frame: the child link,
   // the parent link or the sensor (its <pose> in the child link).
@@ -247,20 +278,35 @@ WrenchSample Sensors::wrench(std::size_t k, const sim::World& world, std::uint64
 }
 
 std::vector<sim::ContactReport> Sensors::contacts(std::size_t k, const sim::World& world) const {
-  const std::string& link = entries_[k].model.link;
+  const Entry& e = entries_[k];
+  const sim::Model& model = world.model();
+  const auto mine = [&e](int body, int shape) {
+    return body == e.body && std::find(e.shapes.begin(), e.shapes.end(), shape) != e.shapes.end();
+  };
+  // The frame the contacts are expressed in: the world, or frameName's link now.
+  Eigen::Isometry3d X_FW = Eigen::Isometry3d::Identity();
+  if (e.reference_body >= 0)
+    X_FW = (stateOf(model.moving_of_body[e.reference_body], e.reference_body, world)
+                .M_WB.toIsometry(model.lambda) *
+            e.X_RB_L)
+               .inverse();
   std::vector<sim::ContactReport> out;
-  for (sim::ContactReport c : world.contacts()) {
-    if (c.link_b == link && c.link_a != link) {
-      std::swap(c.body_a, c.body_b);
-      std::swap(c.link_a, c.link_b);
+  for (const sim::Contact& c : world.lastContacts()) {
+    const bool on_a = mine(c.body_a, c.shape_a), on_b = mine(c.body_b, c.shape_b);
+    if (!on_a && !on_b) continue;
+    sim::ContactReport r = sim::contactReport(model, c);
+    if (!on_a) {
+      std::swap(r.body_a, r.body_b);
+      std::swap(r.link_a, r.link_b);
       // b's view: the normal turned to point towards the link; the normal impulse along it on
       // the link keeps its value, the friction impulse on the link is the opposite of a's.
-      c.normal = -c.normal;
-      c.friction_impulse = -c.friction_impulse;
-    } else if (c.link_a != link) {
-      continue;
+      r.normal = -r.normal;
+      r.friction_impulse = -r.friction_impulse;
     }
-    out.push_back(std::move(c));
+    r.point = X_FW * r.point;
+    r.normal = X_FW.linear() * r.normal;
+    r.friction_impulse = X_FW.linear() * r.friction_impulse;
+    out.push_back(std::move(r));
   }
   return out;
 }

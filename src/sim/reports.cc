@@ -73,9 +73,7 @@ std::vector<MomentumReport> momentumReports(const Model& model, const Data& data
   return out;
 }
 
-std::vector<ContactReport> contactReports(const Model& model, const Data& data) {
-  std::vector<ContactReport> out;
-  out.reserve(data.contacts.size());
+ContactReport contactReport(const Model& model, const Contact& c) {
   const auto names = [&model](int j, int shape, std::string& body, std::string& link) {
     if (j == kGroundPlane) {
       body = link = kGroundPlaneName;
@@ -85,17 +83,21 @@ std::vector<ContactReport> contactReports(const Model& model, const Data& data) 
     body = b.name;
     link = b.links[b.shapes[shape].link_index].link;
   };
-  for (const Contact& c : data.contacts) {
-    ContactReport r;
-    names(c.body_a, c.shape_a, r.body_a, r.link_a);
-    names(c.body_b, c.shape_b, r.body_b, r.link_b);
-    r.point = c.point_W;
-    r.normal = c.normal_W;
-    r.depth = c.depth;
-    r.normal_impulse = c.normal_impulse;
-    r.friction_impulse = c.friction_impulse_W;
-    out.push_back(std::move(r));
-  }
+  ContactReport r;
+  names(c.body_a, c.shape_a, r.body_a, r.link_a);
+  names(c.body_b, c.shape_b, r.body_b, r.link_b);
+  r.point = c.point_W;
+  r.normal = c.normal_W;
+  r.depth = c.depth;
+  r.normal_impulse = c.normal_impulse;
+  r.friction_impulse = c.friction_impulse_W;
+  return r;
+}
+
+std::vector<ContactReport> contactReports(const Model& model, const Data& data) {
+  std::vector<ContactReport> out;
+  out.reserve(data.contacts.size());
+  for (const Contact& c : data.contacts) out.push_back(contactReport(model, c));
   return out;
 }
 

@@ -202,6 +202,8 @@ std::vector<MomentumReport> World::momentum() const {
 std::vector<ContactReport> World::contacts() const {
   return contactReports(impl_->model, impl_->data);
 }
+const std::vector<Contact>& World::lastContacts() const { return impl_->data.contacts; }
+const dynamics::Loads& World::lastLoads(int i) const { return impl_->data.bodies[i].loads; }
 
 std::vector<BodyStateReport> World::bodyStates() const {
   return bodyStateReports(impl_->model, impl_->current());

@@ -76,6 +76,32 @@ TEST(ForceTorque, AtTheBaseOfAnArmAtRestIsTheWeightAndMomentBelow) {
   }
 }
 
+TEST(ForceTorque, AWrenchAppliedBelowTheJointIsAnExternalLoadNotTheJoints) {
+  // The arm of the test above at rest, vertical axes, with a wrench applied to the lower link
+  // for the whole run (~apply_wrench): 4 N along z (vertical: it cannot turn the arm) at the
+  // lower link's point (0.1, 0, 0) in its frame — the world point (0.7, 0, 1) — plus a couple of
+  // (0, 0.5, 0) N m (about y: held by the joints' constraint). The arm stays at rest, so the
+  // shoulder carries the weight less the push: (0, 0, 3 g − 4) N, and the moment about it of the
+  // weights and of the wrench: (0, −1.4 g, 0) − ((0.7, 0, 0) × (0, 0, 4) + (0, 0.5, 0)) =
+  // (0, −1.4 g + 2.8 − 0.5, 0). Statics, by hand. Were the wrench not subtracted, the sensor
+  // would read the weight alone (4 N and 2.3 N m off). Tolerance as above: rounding at rest.
+  auto world = makeWorld(arm("0 0 1"));
+  sim::WrenchInput push;
+  push.body = "lower";
+  push.frame = "lower";
+  push.F.f = Eigen::Vector3d(0, 0, 4);
+  push.point = Eigen::Vector3d(0.1, 0, 0);
+  push.couple = Eigen::Vector3d(0, 0.5, 0);
+  push.duration = -1;  // until cleared
+  ASSERT_TRUE(world->applyWrench(push));
+  Sensors sensors(*world, 1);
+  world->step(100);
+  const WrenchSample w = sampleAfterStep(sensors, *world);
+  EXPECT_LT((w.force - Eigen::Vector3d(0, 0, 3 * kG - 4)).norm(), 1e-10) << w.force.transpose();
+  EXPECT_LT((w.torque - Eigen::Vector3d(0, -1.4 * kG + 2.8 - 0.5, 0)).norm(), 1e-10)
+      << w.torque.transpose();
+}
+
 TEST(ForceTorque, InMotionEqualsTheInverseDynamicsOfTheRecordedMotion) {
   // Horizontal axes (y): the arm swings under gravity from 0.3 rad with 5 N m held on the
   // shoulder. The sensor's torque about the shoulder axis is the joint's effort; the RNEA gives

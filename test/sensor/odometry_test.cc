@@ -1,7 +1,6 @@
-// Ground-truth odometry (gazebo_ros_p3d, sensor/sensors.h) and the bumper's contacts. Truth for
-// the odometry: the link's pose as the World reports it (getBodyState's root link pose) and its
-// origin's velocity by a second method, the central difference of that pose over ±1 step; for
-// the bumper: the World's own contact list, filtered by hand.
+// Ground-truth odometry (gazebo_ros_p3d, sensor/sensors.h). Truth: the link's pose as the World
+// reports it (getBodyState's root link pose) and its origin's velocity by a second method, the
+// central difference of that pose over ±1 step.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -82,69 +81,6 @@ TEST(GroundTruthOdometry, OffsetsAndNoiseAsP3dDeclaresThem) {
       ob.X_RL.translation() - oa.X_RL.translation() - Eigen::Vector3d(1, 2, 3);
   EXPECT_LT(d.norm(), 5.0 * std::sqrt(3.0));
   EXPECT_GT(d.norm(), 0.0);
-}
-
-TEST(Bumper, ListsExactlyTheContactsOfItsLink) {
-  // Two boxes on the ground, one with a bumper: the bumper lists the World's contacts whose
-  // side a or b is its link, turned so that its link is side a, and no other.
-  const std::string box =
-      R"(<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>)";
-  const std::string urdf = R"(<robot name="two"><link name="world"/>
-    <link name="a">)" + box +
-                           R"(</link><link name="b">)" + box + R"(</link>
-    <joint name="ja" type="floating"><parent link="world"/><child link="a"/></joint>
-    <joint name="jb" type="floating"><parent link="world"/><child link="b"/><origin xyz="1 0 0"/></joint>
-    <gazebo reference="a"><sensor name="bump" type="contact"><contact><collision>a_collision</collision></contact>
-      <plugin name="p" filename="libgazebo_ros_bumper.so"><bumperTopicName>bumper_a</bumperTopicName></plugin></sensor></gazebo>
-    </robot>)";
-  sim::WorldConfig config;
-  config.ground_plane = sim::GroundPlane{};
-  auto world = makeWorld(urdf, config,
-                         Map{{"a", Map{{"position", List{0.0, 0.0, 0.1}}}},
-                             {"b", Map{{"position", List{1.0, 0.0, 0.1}}}}});
-  Sensors sensors(*world, 1);
-  world->step(200);
-  const auto all = world->contacts();
-  const auto mine = sensors.contacts(0, *world);
-  std::size_t expected = 0;
-  for (const auto& c : all) expected += (c.link_a == "a" || c.link_b == "a") ? 1 : 0;
-  ASSERT_GT(expected, 0u);
-  EXPECT_LT(expected, all.size());  // b's contacts exist and are left out
-  EXPECT_EQ(mine.size(), expected);
-  for (const auto& c : mine) EXPECT_EQ(c.link_a, "a");
-}
-
-TEST(Bumper, OnAStaticLinkTurnsItsContactsToPutItOnSideA) {
-  // A box resting on a static table whose link has the bumper: the World reports each contact
-  // with the moving box as side a; the bumper's list is the same contacts with the sides
-  // swapped, the normal turned (from the box towards the table: down) and the friction impulse
-  // negated, the normal impulse unchanged.
-  const std::string urdf = R"(<robot name="t"><link name="world"/>
-    <link name="table"><collision><geometry><box size="1 1 0.1"/></geometry></collision></link>
-    <joint name="fix" type="fixed"><parent link="world"/><child link="table"/><origin xyz="0 0 0.5"/></joint>
-    <link name="box"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-      <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
-    <joint name="free" type="floating"><parent link="world"/><child link="box"/></joint>
-    <gazebo reference="table"><sensor name="bump" type="contact">
-      <plugin name="p" filename="libgazebo_ros_bumper.so"><bumperTopicName>table_bumper</bumperTopicName></plugin></sensor></gazebo>
-    </robot>)";
-  auto world = makeWorld(urdf, {}, Map{{"box", Map{{"position", List{0.0, 0.0, 0.66}}}}});
-  Sensors sensors(*world, 1);
-  world->step(300);
-  const auto all = world->contacts();
-  const auto mine = sensors.contacts(0, *world);
-  ASSERT_GT(all.size(), 0u);
-  ASSERT_EQ(mine.size(), all.size());
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    EXPECT_EQ(all[k].link_b, "table");
-    EXPECT_EQ(mine[k].link_a, "table");
-    EXPECT_EQ(mine[k].link_b, "box");
-    EXPECT_EQ(mine[k].normal, -all[k].normal);
-    EXPECT_LT(mine[k].normal.z(), -0.99);
-    EXPECT_EQ(mine[k].normal_impulse, all[k].normal_impulse);
-    EXPECT_EQ(mine[k].friction_impulse, -all[k].friction_impulse);
-  }
 }
 
 }  // namespace odometry_test

@@ -72,9 +72,15 @@ struct SensorModel {
   WrenchFrame wrench_frame = WrenchFrame::kChild;
   MeasureDirection measure_direction = MeasureDirection::kChildToParent;
 
-  // ---- p3d ----
-  /// gazebo_ros_p3d's <frameName>: the pose and twist are given relative to this link
-  /// ("world" or empty: the world frame).
+  // ---- contact ----
+  /// The k-th <collision> of `link` (from 0) that <contact><collision> names by its SDF name
+  /// (doc/sensors.md#bumper); −1: every collision of the link.
+  int collision = -1;
+
+  // ---- p3d, contact ----
+  /// gazebo_ros_p3d's and gazebo_ros_bumper's <frameName>: p3d's pose and twist are relative to
+  /// this link, the bumper's points, normals and impulses are expressed in it ("world": the
+  /// world frame).
   std::string reference_link;
   Eigen::Vector3d xyz_offset = Eigen::Vector3d::Zero();  ///< p3d <xyzOffset>
   Eigen::Vector3d rpy_offset = Eigen::Vector3d::Zero();  ///< p3d <rpyOffset>
@@ -89,10 +95,12 @@ struct DriveModel {
   std::string name, plugin;
   int line = 0;
   std::vector<std::string> left_joints, right_joints;  ///< 1 each (diff) or 2 each (skid)
-  double wheel_separation = 0.34;   ///< m, between the left and right wheels' contact points
-  double wheel_diameter = 0.15;     ///< m
-  double wheel_torque = 5.0;        ///< N m the servo may apply (diff: wheelTorque)
-  double wheel_acceleration = 0.0;  ///< rad/s² bound on the commanded wheel speed (0: none)
+  double wheel_separation = 0.34;  ///< m, between the left and right wheels' contact points
+  double wheel_diameter = 0.15;    ///< m
+  double wheel_torque = 5.0;       ///< N m the servo may apply (diff: wheelTorque)
+  /// gazebo_ros_diff_drive's wheelAcceleration: m/s² at the wheel's rim, the bound on how fast
+  /// the commanded wheel speed follows cmd_vel (0: at once)
+  double wheel_acceleration = 0.0;
   std::string command_topic = "cmd_vel";
   std::string odometry_topic = "odom";
   std::string odometry_frame = "odom";

@@ -39,11 +39,11 @@ struct OdometrySample {
 ///
 /// What the parent applies on the child through the joint is what changes the momentum of
 /// everything below the joint beyond the external loads on it: W = Σ_b (dP_b/dt, dL_b/dt) − Σ
-/// (gravity, contact impulses / h) over the subtree's bodies b, the rates taken as the mean over
-/// the step that ends at the sample ((P(t) − P(t − h))/h, angular momenta about one fixed point).
-/// It holds the constraint wrench and the joint's own actuation, damping, friction and limit;
-/// from the tree's actual motion, so it agrees with the inverse dynamics of that motion.
-/// Wrenches applied through ~apply_wrench to the subtree's links are not subtracted (doc).
+/// (gravity, applied wrenches, contact impulses / h) over the subtree's bodies b, the rates
+/// taken as the mean over the step that ends at the sample ((P(t) − P(t − h))/h, angular momenta
+/// about one fixed point; gravity and the applied wrenches at the step's mean pose). It holds
+/// the constraint wrench and the joint's own actuation, damping, friction and limit; from the
+/// tree's actual motion, so it agrees with the inverse dynamics of that motion.
 struct WrenchSample {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< N
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< N m, about the frame's origin
@@ -80,8 +80,9 @@ class Sensors {
            entries_[k].model.kind != scene::SensorKind::kForceTorque;
   }
 
-  /// The contacts of the last step that touch sensor k's link (the link on side a: normals
-  /// and impulses are turned to act on it).
+  /// The contacts of the last step that touch sensor k's link — its collision the sensor names,
+  /// or any — with the link on side a (normals and impulses turned to act on it), expressed in
+  /// the sensor's frameName (the world, or a link's frame now).
   std::vector<sim::ContactReport> contacts(std::size_t k, const sim::World& world) const;
 
   /// The state of the body carrying sensor k at the current step (a static body's pose, at
@@ -95,8 +96,10 @@ class Sensors {
     int body = -1;    ///< scene body index
     Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();  ///< the link in the body
     Eigen::Isometry3d X_BS = Eigen::Isometry3d::Identity();  ///< the sensor in the body
-    int reference_body = -1;  ///< p3d: the reference link's body (−1: the world)
-    Eigen::Isometry3d X_RB_L = Eigen::Isometry3d::Identity();  ///< p3d: reference link in its body
+    /// p3d, contact: frameName's body (−1: the world) and the link in that body.
+    int reference_body = -1;
+    Eigen::Isometry3d X_RB_L = Eigen::Isometry3d::Identity();
+    std::vector<int> shapes;  ///< contact: the collision shapes reported (indices in the body)
     std::array<NoisyChannel, 3> angular_velocity, linear_acceleration;
     std::uint64_t stream = 0;  ///< the plugin's gaussianNoise stream
     /// force_torque: the moving bodies below the joint (its child first), whether each moving
@@ -113,6 +116,7 @@ class Sensors {
   };
   dynamics::BodyState stateOf(int moving, int body, const sim::World& world) const;
   void resolveJoint(const sim::World& world, Entry* e);
+  void resolveCollisions(const sim::World& world, int link, Entry* e);
 
   std::uint64_t seed_;
   std::vector<Entry> entries_;

@@ -102,6 +102,8 @@ std::vector<FramePose> movingFrames(const Model& model, const Data& data);
 std::vector<FramePose> staticFrames(const Model& model);
 /// The contacts of the last step, in the solver's (deterministic) order.
 std::vector<ContactReport> contactReports(const Model& model, const Data& data);
+/// One of them: the bodies' and links' names of a solver's contact.
+ContactReport contactReport(const Model& model, const Contact& c);
 /// The integrator path per body, first 20 listed, counts per path.
 std::string worldSummary(const Model& model, const Data& data);
 /// The last tree fault (Data::tree_faults) as an error naming the tree, the joint or the pair of

@@ -59,6 +59,8 @@
 #include <string>
 #include <vector>
 
+#include "cga_rigid_sim/body/loads.h"
+#include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/control/joint_trajectory.h"
 #include "cga_rigid_sim/result.h"
 #include "cga_rigid_sim/scene/param_value.h"
@@ -193,6 +195,12 @@ class World {
   std::vector<CurvedMomentumReport> curvedMomentum() const;
   /// The contacts of the last step (doc/contacts.md).
   std::vector<ContactReport> contacts() const;
+  /// The same contacts as the solver keeps them: bodies and shapes by index (contact/contact.h),
+  /// no names built. What the sensors read.
+  const std::vector<Contact>& lastContacts() const;
+  /// The loads that acted on moving body i in the last step: gravity and its applied wrenches
+  /// (until clearWrenches(), which drops them at once). What the force-torque sensor subtracts.
+  const dynamics::Loads& lastLoads(int i) const;
   /// world_frame → root link of every moving body (changes every step).
   std::vector<FramePose> movingFrames() const;
   /// world_frame → root link of static bodies, and root link → each merged link (constant).

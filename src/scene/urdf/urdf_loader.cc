@@ -136,7 +136,7 @@ std::optional<Error> Loader::crossCheck(const urdf::ModelInterface& model) const
 Result<Scene> Loader::load(const std::string& xml) {
   if (auto err = checkOptions()) return *err;
   if (xml.size() > kMaxUrdfBytes) return fail(0, textTooLarge(xml.size()));
-  auto checked = detail::readUrdfXml(xml, source_, options_.world_frame);
+  auto checked = detail::readUrdfXml(xml, source_, options_.world_frame, options_.plugin_namespace);
   if (!checked) return Error{checked.error()};
   xml_ = std::move(*checked);
 

@@ -44,8 +44,9 @@ using math::rotationFromRpy;
 
 class Reader {
  public:
-  Reader(const std::string& source, const std::string& world_frame)
-      : source_(source), world_frame_(world_frame) {}
+  Reader(const std::string& source, const std::string& world_frame,
+         const std::string& plugin_namespace)
+      : source_(source), world_frame_(world_frame), plugin_namespace_(plugin_namespace) {}
 
   Result<UrdfXml> read(const std::string& xml);
 
@@ -85,6 +86,7 @@ class Reader {
   // Sensors and drives (urdf_xml_gazebo.cc), once every link and joint is known.
   std::optional<Error> readGazeboSensors(const XMLElement* gazebo);
   std::optional<Error> readSensor(const XMLElement* e, const std::string& reference);
+  void readBumperCollision(const XMLElement* sensor, const std::string& owner, SensorModel* s);
   std::optional<Error> readModelPlugin(const XMLElement* p);
   std::optional<Error> readDrive(const XMLElement* p, const std::string& file,
                                  const std::string& name);
@@ -117,6 +119,9 @@ class Reader {
 
   const std::string& source_;
   const std::string& world_frame_;
+  const std::string& plugin_namespace_;  ///< replaces every plugin's robotNamespace when set
+  /// A plugin's robotNamespace: plugin_namespace_ when set, else as written ("" when absent).
+  std::string robotNamespace(const XMLElement* plugin) const;
   UrdfXml out_;
   std::vector<JointEdge> edges_;
   std::vector<std::string> link_names_;                          // document order

@@ -154,8 +154,8 @@ bool parseUrdfNumber(const char* text, double* out) {
 }
 
 Result<UrdfXml> readUrdfXml(const std::string& xml, const std::string& source,
-                            const std::string& world_frame) {
-  return Reader(source, world_frame).read(xml);
+                            const std::string& world_frame, const std::string& plugin_namespace) {
+  return Reader(source, world_frame, plugin_namespace).read(xml);
 }
 
 }  // namespace detail

@@ -99,8 +99,9 @@ struct UrdfXml {
 };
 
 /// Reads and checks the document. Every error starts with "<source>:<line>: ".
+/// `plugin_namespace`, when not empty, replaces every gazebo_ros plugin's robotNamespace.
 Result<UrdfXml> readUrdfXml(const std::string& xml, const std::string& source,
-                            const std::string& world_frame);
+                            const std::string& world_frame, const std::string& plugin_namespace);
 
 /// urdfdom's number syntax (a C-locale decimal number filling the whole string, leading white
 /// space allowed), and finite.

@@ -48,6 +48,22 @@ std::string joinTopic(const std::string& ns, const std::string& topic) {
   return out;
 }
 
+// The names gazebo_ros's plugins read as the world frame.
+bool isWorldName(const std::string& frame) {
+  return frame == "world" || frame == "/world" || frame == "map" || frame == "/map";
+}
+
+// The name Gazebo's URDF → SDF conversion gives the k-th <collision> of `link` (sdformat's
+// parser_urdf: the collision's name, or the link's when it has none, + "_collision", + "_k" for
+// k > 0; a name that does not start with the link's is prefixed "<link>_fixed_joint_lump__").
+std::string sdfCollisionName(const std::string& link, const CollisionShape& shape, int k) {
+  const bool named = shape.name != link + "#" + std::to_string(k);
+  std::string name = (named ? shape.name : link) + "_collision";
+  if (k > 0) name += "_" + std::to_string(k);
+  if (name.compare(0, link.size(), link) != 0) name = link + "_fixed_joint_lump__" + name;
+  return name;
+}
+
 constexpr const char* kImuSensorPlugin = "libgazebo_ros_imu_sensor.so";
 constexpr const char* kImuModelPlugin = "libgazebo_ros_imu.so";
 constexpr const char* kFtPlugin = "libgazebo_ros_ft_sensor.so";
@@ -58,6 +74,10 @@ constexpr const char* kSkidSteerPlugin = "libgazebo_ros_skid_steer_drive.so";
 constexpr const char* kControlPlugin = "libgazebo_ros_control.so";
 
 }  // namespace
+
+std::string Reader::robotNamespace(const XMLElement* plugin) const {
+  return plugin_namespace_.empty() ? childText(plugin, "robotNamespace") : plugin_namespace_;
+}
 
 // A number in an element's text: finite, and ≥ 0 when `non_negative`. Absent: `out` unchanged.
 std::optional<Error> Reader::readGazeboNumber(const XMLElement* parent, const char* name,
@@ -308,11 +328,12 @@ std::optional<Error> Reader::readSensor(const XMLElement* e, const std::string& 
   }
   s.plugin = pluginFile(plugin);
   const std::string powner = owner + "<plugin filename=" + inQuotes(s.plugin) + ">";
-  std::string ns = childText(plugin, "robotNamespace");
+  std::string ns = robotNamespace(plugin);
   if (s.kind == SensorKind::kImu) {
     // gazebo_ros_imu_sensor: robotNamespace defaults to the model's name, topicName to
     // imu_data; updateRateHZ (default 1) gates the sensor's own update_rate.
-    if (!plugin->FirstChildElement("robotNamespace")) ns = "/" + out_.robot_name;
+    if (plugin_namespace_.empty() && !plugin->FirstChildElement("robotNamespace"))
+      ns = "/" + out_.robot_name;
     const std::string topic = childText(plugin, "topicName");
     s.topic = joinTopic(ns, topic.empty() ? "imu_data" : topic);
     double rate = 1.0;
@@ -338,14 +359,55 @@ std::optional<Error> Reader::readSensor(const XMLElement* e, const std::string& 
     if (auto err = readGazeboNumber(plugin, "gaussianNoise", powner, true, &s.gaussian_noise))
       return err;
   } else {
-    // gazebo_ros_bumper: bumperTopicName (default bumper_states), frameName (default world).
+    // gazebo_ros_bumper: bumperTopicName (default bumper_states), frameName (default world:
+    // the contacts in world coordinates; a link: in that link's frame).
     const std::string topic = childText(plugin, "bumperTopicName");
     s.topic = joinTopic(ns, topic.empty() ? "bumper_states" : topic);
     const std::string frame = childText(plugin, "frameName");
     s.frame_id = frame.empty() ? "world" : frame;
+    s.reference_link = isWorldName(s.frame_id) ? "world" : s.frame_id;
+    if (s.reference_link != "world" && !isLink(s.reference_link))
+      return fail(plugin->GetLineNum(), powner + ": <frameName> " + inQuotes(frame) +
+                                            " is neither world nor a link of this URDF (the "
+                                            "bumper's contacts are expressed in it)");
+    readBumperCollision(e, owner, &s);
   }
   out_.sensors.sensors.push_back(std::move(s));
   return std::nullopt;
+}
+
+// A contact sensor's <contact><collision>: which of its link's collisions it reports, by the SDF
+// name Gazebo gives them (also as lumped into a parent: "<parent>_fixed_joint_lump__<name>").
+// A name that is none of them is warned about; the sensor then reports every collision of the
+// link.
+void Reader::readBumperCollision(const XMLElement* sensor, const std::string& owner,
+                                 SensorModel* s) {
+  const XMLElement* contact = sensor->FirstChildElement("contact");
+  if (!contact || !contact->FirstChildElement("collision")) return;
+  const std::string wanted = childText(contact, "collision");
+  const auto link = out_.links.find(s->link);
+  std::vector<std::string> names;
+  if (link != out_.links.end())
+    for (std::size_t k = 0; k < link->second.collisions.size(); ++k) {
+      const std::string name =
+          sdfCollisionName(s->link, link->second.collisions[k].shape, static_cast<int>(k));
+      const std::string lumped = "_fixed_joint_lump__" + name;
+      const bool lumped_match =
+          wanted.size() > lumped.size() &&
+          wanted.compare(wanted.size() - lumped.size(), lumped.size(), lumped) == 0;
+      if (wanted == name || lumped_match) {
+        s->collision = static_cast<int>(k);
+        return;
+      }
+      names.push_back(inQuotes(name));
+    }
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  warn(contact->GetLineNum(),
+       owner + ": <contact><collision> " + inQuotes(wanted) + " is not a collision of link " +
+           inQuotes(s->link) + " (" +
+           (names.empty() ? std::string("it has none") : "its SDF names: " + list) +
+           "): the bumper reports every contact of the link");
 }
 
 // A <plugin> of <gazebo> without reference: p3d, imu (the model plugin), ft_sensor, the drives.
@@ -355,7 +417,7 @@ std::optional<Error> Reader::readModelPlugin(const XMLElement* p) {
   const std::string owner =
       "<gazebo><plugin name=" + inQuotes(name) + " filename=" + inQuotes(file) + ">";
   const int line = p->GetLineNum();
-  const std::string ns = childText(p, "robotNamespace");
+  const std::string ns = robotNamespace(p);
   // A link a plugin names in `element` (required).
   auto needLink = [&](const char* element, std::string* link) -> std::optional<Error> {
     *link = childText(p, element);
@@ -386,12 +448,10 @@ std::optional<Error> Reader::readModelPlugin(const XMLElement* p) {
       // gazebo_ros_p3d: frameName (default world) is the reference; offsets in it.
       s.reference_link = childText(p, "frameName");
       if (s.reference_link.empty()) s.reference_link = "world";
-      if (s.reference_link != "world" && s.reference_link != "/world" &&
-          s.reference_link != "map" && s.reference_link != "/map" && !isLink(s.reference_link))
+      if (!isWorldName(s.reference_link) && !isLink(s.reference_link))
         return fail(line, owner + ": <frameName> " + inQuotes(s.reference_link) +
                               " is neither world nor a link of this URDF");
-      if (s.reference_link == "/world" || s.reference_link == "map" || s.reference_link == "/map")
-        s.reference_link = "world";
+      if (isWorldName(s.reference_link)) s.reference_link = "world";
       s.frame_id = childText(p, "frameName").empty() ? "world" : childText(p, "frameName");
       if (auto err = readGazeboTriple(p, "xyzOffsets", owner, &s.xyz_offset)) return err;
       if (auto err = readGazeboTriple(p, "rpyOffsets", owner, &s.rpy_offset)) return err;
@@ -494,7 +554,7 @@ std::optional<Error> Reader::readDrive(const XMLElement* p, const std::string& f
   if (auto err = readGazeboNumber(p, "commandTimeout", owner, true, &d.command_timeout)) return err;
   if (!(d.wheel_separation > 0) || !(d.wheel_diameter > 0))
     return fail(line, owner + ": wheelSeparation and wheelDiameter must be > 0");
-  const std::string ns = childText(p, "robotNamespace");
+  const std::string ns = robotNamespace(p);
   for (auto [element, out] :
        {std::pair{"commandTopic", &d.command_topic}, std::pair{"odometryTopic", &d.odometry_topic},
         std::pair{"odometryFrame", &d.odometry_frame},

@@ -149,6 +149,55 @@ TEST(GazeboSensors, ContactAndForceTorqueSensors) {
   EXPECT_EQ(ft.update_rate, 10.0);
 }
 
+TEST(GazeboSensors, ABumpersCollisionIsFoundByItsSdfName) {
+  // sdformat's URDF → SDF names for the k-th <collision> of link "plate": the collision's name
+  // (the link's if it has none) + "_collision", + "_k" for k > 0, and "plate_fixed_joint_lump__"
+  // in front of a name that does not start with the link's; lumped into a parent, the parent's
+  // prefix. Each resolves to its index; an unknown name is warned about and means every
+  // collision; an unknown frameName is refused.
+  const auto withBumper = [](const std::string& collision, const std::string& frame = "") {
+    const std::string box = R"(<geometry><box size="0.1 0.1 0.1"/></geometry>)";
+    return loadUrdfString(
+        R"(<robot name="r"><link name="plate"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+      <collision>)" +
+            box + "</collision><collision>" + box + R"(</collision><collision name="rim">)" + box +
+            R"(</collision></link>
+      <gazebo reference="plate"><sensor name="bump" type="contact"><contact><collision>)" +
+            collision + R"(</collision></contact>
+        <plugin name="b" filename="libgazebo_ros_bumper.so">)" +
+            (frame.empty() ? "" : "<frameName>" + frame + "</frameName>") +
+            "</plugin></sensor></gazebo></robot>",
+        "bumper.urdf", SceneOptions{});
+  };
+  const std::pair<const char*, int> cases[] = {{"plate_collision", 0},
+                                               {"plate_collision_1", 1},
+                                               {"plate_fixed_joint_lump__rim_collision_2", 2},
+                                               {"base_fixed_joint_lump__plate_collision_1", 1}};
+  for (const auto& [name, index] : cases) {
+    auto scene = withBumper(name);
+    ASSERT_TRUE(scene) << scene.error();
+    EXPECT_EQ(scene->sensors.sensors.at(0).collision, index) << name;
+  }
+  auto unknown = withBumper("plate_link_collision");
+  ASSERT_TRUE(unknown) << unknown.error();
+  EXPECT_EQ(unknown->sensors.sensors.at(0).collision, -1);
+  EXPECT_TRUE(hasWarning(*unknown,
+                         "<contact><collision> 'plate_link_collision' is not a collision of link "
+                         "'plate' (its SDF names: 'plate_collision', 'plate_collision_1', "
+                         "'plate_fixed_joint_lump__rim_collision_2'): the bumper reports every "
+                         "contact of the link"));
+  auto in_link = withBumper("plate_collision", "plate");
+  ASSERT_TRUE(in_link) << in_link.error();
+  EXPECT_EQ(in_link->sensors.sensors.at(0).reference_link, "plate");
+  EXPECT_EQ(in_link->sensors.sensors.at(0).frame_id, "plate");
+  auto bad_frame = withBumper("plate_collision", "chassis");
+  ASSERT_FALSE(bad_frame);
+  EXPECT_NE(
+      bad_frame.error().find("<frameName> 'chassis' is neither world nor a link of this URDF"),
+      std::string::npos)
+      << bad_frame.error();
+}
+
 TEST(GazeboSensors, UnsupportedTypesAndPluginsAreWarnedAboutByName) {
   auto scene = load(R"(
   <gazebo reference="base"><sensor name="cam" type="camera"><plugin name="c" filename="libgazebo_ros_camera.so"/></sensor></gazebo>

@@ -29,7 +29,10 @@ struct SceneOptions {
   /// placeholder. kRefuse (strict) refuses each of them instead.
   dynamics::TrianglePolicy triangle_policy = dynamics::TrianglePolicy::kNearestPhysical;
   std::string world_frame = "world";  ///< the root link that means "the world"
-  ParamValue initial_state;           ///< README "Initial state"; may be none
+  /// When set, every gazebo_ros plugin's <robotNamespace> is this one, written or not: what
+  /// Gazebo's spawn service does with a robot_namespace (doc/sensors.md#spawned-robots).
+  std::string plugin_namespace;
+  ParamValue initial_state;  ///< README "Initial state"; may be none
 };
 
 /// What the loader reads at most (doc/urdf.md#bounds), checked on the text before urdfdom parses
