@@ -13,8 +13,9 @@ namespace {
 // The URDF loaded with the world's λ, gravity, world frame and inertia rule (source
 // "spawn_urdf '<name>'").
 Result<scene::Scene> loadSpawned(const Model& model, const std::string& name,
-                                 const std::string& urdf) {
+                                 const std::string& urdf, const std::string& robot_namespace) {
   scene::SceneOptions options;
+  options.plugin_namespace = robot_namespace;  // as Gazebo's spawn service sets robotNamespace
   options.lambda = model.lambda;
   options.gravity_W = model.scene.gravity_W;
   options.world_frame = model.config.world_frame;
@@ -72,7 +73,7 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
     return Error(what, "name", "body '" + name + "' already exists");
   if (model.findRobot(name) >= 0) return Error(what, "name", "robot '" + name + "' already exists");
   if (auto e = checkStateInput(what, pose_root, v_W, w_W)) return *e;
-  auto scene = loadSpawned(model, name, urdf);
+  auto scene = loadSpawned(model, name, urdf, options.robot_namespace);
   if (!scene) return scene.failure();
   // A robot: joints, or a namespace asked for.
   if (!options.robot_namespace.empty() || !scene->joints.empty())
@@ -95,6 +96,13 @@ Result<bool> spawnUrdf(Model& model, Data& data, const std::string& name, const 
   data.bodies.push_back(std::move(b.value()));
   data.coasting.push_back(0);
   for (auto& w : warnings) model.scene.warnings.push_back(std::move(w));
+  // Its sensors, the root link's under its new name.
+  const std::string& root = scene->bodies.front().links.front().link;
+  for (scene::SensorModel s : scene->sensors.sensors) {
+    for (std::string* link : {&s.link, &s.reference_link, &s.frame_id})
+      if (*link == root) *link = name;
+    model.scene.sensors.sensors.push_back(std::move(s));
+  }
   data.dirty_list.reserve(data.bodies.size());
   ++model.topology_version;
   return true;
@@ -137,7 +145,9 @@ Result<bool> deleteBody(Model& model, Data& data, const std::string& body) {
   // Contacts name bodies by index: the next step finds them again.
   data.contacts.clear();
 
-  // Model: names out, body indices after j and moving indices after i shift down by one.
+  // Model: its sensors and names out, body indices after j and moving indices after i shift
+  // down by one.
+  removeSensorsOf(model, j, 1);
   for (const auto& l : model.scene.bodies[j].links) model.link_owner.erase(l.link);
   model.body_by_name.erase(body);
   model.scene.bodies.erase(model.scene.bodies.begin() + j);

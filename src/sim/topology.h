@@ -34,5 +34,9 @@ Result<bool> spawnRobot(Model& model, Data& data, const std::string& name,
 /// queued and active inputs and its controllers; the indices after them shift down.
 Result<bool> deleteRobot(Model& model, Data& data, int robot);
 
+/// Takes out of the scene the sensors fixed to links of bodies [b0, b0 + nb) and the drives
+/// turning their joints (before those bodies leave Model::link_owner).
+void removeSensorsOf(Model& model, int b0, int nb);
+
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -6,6 +6,7 @@
 // and shifts what follows.
 #include <algorithm>
 #include <limits>
+#include <set>
 
 #include "cga_rigid_sim/scene/placement.h"
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
@@ -52,6 +53,9 @@ std::optional<Error> checkNamespace(const std::string& ns) {
 // links its self-collision rules name.
 void prefixNames(scene::Scene& robot, const std::string& prefix) {
   if (prefix.empty()) return;
+  std::set<std::string> links;  // as written
+  for (const scene::BodyModel& b : robot.bodies)
+    for (const scene::LinkFrame& l : b.links) links.insert(l.link);
   for (scene::BodyModel& b : robot.bodies) {
     b.name = prefix + b.name;
     for (scene::LinkFrame& l : b.links) l.link = prefix + l.link;
@@ -68,6 +72,22 @@ void prefixNames(scene::Scene& robot, const std::string& prefix) {
   for (const auto& [link, value] : robot.self_collision.gazebo_links)
     gazebo_links.emplace(prefix + link, value);
   robot.self_collision.gazebo_links = std::move(gazebo_links);
+  // Its sensors and drives: the links and joints they name, and the tf frames they publish in
+  // (a link's frame is the prefixed link; the drives' odometry and base frames are the robot's
+  // own). Their topics took the namespace when the URDF was read (plugin_namespace).
+  for (scene::SensorModel& s : robot.sensors.sensors) {
+    s.link = prefix + s.link;
+    if (!s.joint.empty()) s.joint = prefix + s.joint;
+    if (!s.reference_link.empty() && s.reference_link != "world")
+      s.reference_link = prefix + s.reference_link;
+    if (links.count(s.frame_id)) s.frame_id = prefix + s.frame_id;
+  }
+  for (scene::DriveModel& d : robot.sensors.drives) {
+    for (auto* joints : {&d.left_joints, &d.right_joints})
+      for (std::string& j : *joints) j = prefix + j;
+    d.odometry_frame = prefix + d.odometry_frame;
+    d.robot_base_frame = prefix + d.robot_base_frame;
+  }
 }
 
 // The robot moved as a whole so that its root link sits at pose_root: a robot rooted at the
@@ -164,6 +184,10 @@ void append(Model& model, Data& data, Model part, Data part_data, RobotModel rob
     model.joint_by_name[joint] = {at.first + t0, at.second};
   model.self_collision.appendRobot(part.self_collision, b0);
   for (std::string& w : part.scene.warnings) model.scene.warnings.push_back(std::move(w));
+  for (scene::SensorModel& s : part.scene.sensors.sensors)
+    model.scene.sensors.sensors.push_back(std::move(s));
+  for (scene::DriveModel& d : part.scene.sensors.drives)
+    model.scene.sensors.drives.push_back(std::move(d));
 
   for (MovingBodyData& b : part_data.bodies) data.bodies.push_back(std::move(b));
   data.coasting.resize(data.bodies.size(), 0);
@@ -182,6 +206,24 @@ void append(Model& model, Data& data, Model part, Data part_data, RobotModel rob
 }
 
 }  // namespace
+
+void removeSensorsOf(Model& model, int b0, int nb) {
+  const auto gone = [&](const std::string& link) {
+    const auto owner = model.link_owner.find(link);
+    return owner != model.link_owner.end() && inRange(owner->second.first, b0, nb);
+  };
+  auto& sensors = model.scene.sensors.sensors;
+  sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
+                               [&](const scene::SensorModel& s) { return gone(s.link); }),
+                sensors.end());
+  auto& drives = model.scene.sensors.drives;
+  drives.erase(std::remove_if(drives.begin(), drives.end(),
+                              [&](const scene::DriveModel& d) {
+                                const int j = model.scene.findJoint(d.left_joints.front());
+                                return j < 0 || gone(model.scene.joints[j].child_link);
+                              }),
+               drives.end());
+}
 
 Result<bool> spawnRobot(Model& model, Data& data, const std::string& name,
                         const SpawnOptions& options, scene::Scene robot,
@@ -268,7 +310,9 @@ Result<bool> deleteRobot(Model& model, Data& data, int robot) {
   shiftDown(refused.body, m0, nm);
   data.contacts.clear();  // they name bodies by index: the next step finds them again
 
-  // Model: names out, then the ranges, then every index past them shifts down.
+  // Model: its sensors and drives out (they name its links and joints), names out, then the
+  // ranges, then every index past them shifts down.
+  removeSensorsOf(model, b0, nb);
   for (int j = b0; j < b0 + nb; ++j) {
     for (const auto& l : model.scene.bodies[j].links) model.link_owner.erase(l.link);
     model.body_by_name.erase(model.scene.bodies[j].name);
