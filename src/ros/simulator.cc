@@ -123,9 +123,9 @@ Simulator::Simulator(::ros::NodeHandle nh, ::ros::NodeHandle pnh, const NodePara
   services_.push_back(pnh_.advertiseService("delete_body", &Simulator::onDeleteBody, this));
   services_.push_back(
       pnh_.advertiseService("apply_joint_effort", &Simulator::onApplyJointEffort, this));
-  startDrives();  // before the controllers' topics, which leave the drives' controllers out
+  syncDrives();  // before the controllers' topics, which leave the drives' controllers out
   syncControllerTopics();
-  startSensorTopics();
+  syncSensorTopics();
 }
 
 }  // namespace node

@@ -131,20 +131,26 @@ class Simulator {
                       const std_msgs::Float64MultiArray::ConstPtr& msg);
 
   // ---- sensors (simulator_sensors.cc, doc/sensors.md#in-the-node) ----
-  /// Advertises each sensor the URDF declares on its plugin's topic.
-  void startSensorTopics();
+  /// One topic per sensor the scene declares (the URDF's and the spawned robots'), advertised
+  /// on its plugin's topic; after a spawn or a delete the sensors find their bodies again and
+  /// the topics follow (a topic kept keeps its publisher).
+  void syncSensorTopics();
   /// After each step: the sensors due at this step, for the topics with subscribers; the
   /// differentiating ones remember the step before their next sample.
   void publishSensors();
   /// Drops what the sensors remembered (after a reset: no difference across the jump).
   void forgetSensors();
   // ---- drives (simulator_drives.cc, doc/sensors.md#drives) ----
-  /// Per drive: its wheels' velocity controller loaded, commandTopic subscribed, odometry
-  /// advertised.
-  void startDrives();
-  void onCmdVel(std::size_t drive, const geometry_msgs::Twist::ConstPtr& msg);
-  /// After each step: each drive's odometry (and tf) at its update rate.
+  /// Per drive the scene declares: its wheels' velocity controller loaded, commandTopic
+  /// subscribed, odometry advertised; a drive whose robot was deleted is dropped.
+  void syncDrives();
+  void onCmdVel(const std::string& controller, const geometry_msgs::Twist::ConstPtr& msg);
+  /// After each step: the wheels' commands ramped (wheelAcceleration), each drive's odometry
+  /// (and tf) at its update rate.
   void publishDrives();
+  /// world → odometry frame of each drive that publishes its odom tf: where its odometry
+  /// started (doc/sensors.md#drives). For the latched /tf_static.
+  std::vector<sim::FramePose> odometryAnchors() const;
 
   // ---- callbacks ----
   void onApplyWrench(const cga_rigid_sim::CgaWrench::ConstPtr& msg);
@@ -233,6 +239,8 @@ class Simulator {
   std::uint64_t sensors_version_ = 0;  ///< the topology version they were made for
   struct SensorTopic {
     std::size_t sensor = 0;
+    scene::SensorKind kind = scene::SensorKind::kImu;
+    std::string topic;
     ::ros::Publisher publisher;
     TickSchedule ticks;
     std::uint64_t last_step = UINT64_MAX;
@@ -243,7 +251,13 @@ class Simulator {
     scene::DriveModel model;
     std::string controller;  ///< the velocity group controller of its wheels
     std::string base_link;   ///< the wheels' parent link (odometrySource world)
+    ::ros::Subscriber command;
     ::ros::Publisher odometry;
+    /// The wheels' speeds cmd_vel asks for and the ones commanded now (they differ while a
+    /// wheelAcceleration ramps them), rad/s, left wheels first.
+    std::vector<double> target, commanded;
+    /// world → odometry frame: the base's planar pose when the drive started.
+    Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();
     TickSchedule ticks{1.0, 1.0};
     bool publish_tf = false;
     std::uint64_t last_step = UINT64_MAX;              ///< of the last tick

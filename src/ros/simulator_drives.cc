@@ -6,6 +6,7 @@
 // travel (odometrySource encoder) or the base's true pose (world), and the odom → base tf.
 #include <nav_msgs/Odometry.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cga_rigid_sim/format.h"
@@ -22,11 +23,29 @@ constexpr double kServoGainPerTorque = 10.0;
 
 }  // namespace
 
-void Simulator::startDrives() {
-  for (const scene::DriveModel& d : world_->scene().sensors.drives) {
+void Simulator::syncDrives() {
+  const auto& declared = world_->scene().sensors.drives;
+  // Drives whose robot was deleted (their wheels' controller went with it) are dropped.
+  drives_.erase(std::remove_if(drives_.begin(), drives_.end(),
+                               [&declared](const Drive& d) {
+                                 return std::none_of(declared.begin(), declared.end(),
+                                                     [&d](const scene::DriveModel& m) {
+                                                       return m.left_joints == d.model.left_joints;
+                                                     });
+                               }),
+                drives_.end());
+  for (const scene::DriveModel& d : declared) {
+    if (std::any_of(drives_.begin(), drives_.end(),
+                    [&d](const Drive& x) { return x.model.left_joints == d.left_joints; }))
+      continue;
     Drive drive;
     drive.model = d;
-    drive.controller = "drive_" + d.name + "_wheels";
+    // The controller's name: the drive's, under its robot's namespace (the wheels' joints'
+    // prefix) so that two copies of one robot each have theirs.
+    const std::string& wheel = d.left_joints.front();
+    const std::size_t slash = wheel.rfind('/');
+    const std::string prefix = slash == std::string::npos ? "" : wheel.substr(0, slash + 1);
+    drive.controller = prefix + "drive_" + d.name + "_wheels";
     scene::ParamValue::List joints;
     scene::ParamValue::Map gains;
     const double p = kServoGainPerTorque * std::max(d.wheel_torque, 0.1);
@@ -45,8 +64,9 @@ void Simulator::startDrives() {
                 d.name.c_str(), d.plugin.c_str(), loaded.error().c_str(), d.command_topic.c_str());
       continue;
     }
+    drive.target.assign(d.left_joints.size() + d.right_joints.size(), 0.0);
+    drive.commanded = drive.target;
     // The base: the wheels' parent link (the body the plugin's model moves).
-    const std::string wheel = d.left_joints.front();
     const int joint = world_->scene().findJoint(wheel);
     drive.base_link = world_->scene().joints[joint].parent_link;
     drive.ticks = TickSchedule(world_->config().dt, d.update_rate);
@@ -62,20 +82,45 @@ void Simulator::startDrives() {
           d.name.c_str(), d.robot_base_frame.c_str(), world_->config().world_frame.c_str());
       drive.publish_tf = false;
     }
-    drives_.push_back(std::move(drive));
-    const std::size_t index = drives_.size() - 1;
-    subscribers_.push_back(nh_.subscribe<geometry_msgs::Twist>(
+    // The odometry frame in the world: where the encoders' dead reckoning starts (the base's
+    // position on z = 0 and its heading now), or the world itself for odometrySource world.
+    if (!d.odometry_from_world)
+      if (auto base = world_->getBodyState(drive.base_link)) {
+        const Eigen::Isometry3d& X = base->pose_root;
+        drive.X_WO.translation() = Eigen::Vector3d(X.translation().x(), X.translation().y(), 0);
+        drive.X_WO.linear() = Eigen::AngleAxisd(std::atan2(X.linear()(1, 0), X.linear()(0, 0)),
+                                                Eigen::Vector3d::UnitZ())
+                                  .toRotationMatrix();
+      }
+    const std::string controller = drive.controller;
+    drive.command = nh_.subscribe<geometry_msgs::Twist>(
         d.command_topic, kInputQueueSize,
-        [this, index](const geometry_msgs::Twist::ConstPtr& msg) { onCmdVel(index, msg); }));
+        [this, controller](const geometry_msgs::Twist::ConstPtr& msg) {
+          onCmdVel(controller, msg);
+        });
     ROS_INFO("simulator: drive '%s' (%s): %s -> wheels %zu + %zu -> %s (odometry from %s)",
              d.name.c_str(), d.plugin.c_str(), d.command_topic.c_str(), d.left_joints.size(),
              d.right_joints.size(), d.odometry_topic.c_str(),
              d.odometry_from_world ? "the world" : "the wheels");
+    drives_.push_back(std::move(drive));
   }
 }
 
-void Simulator::onCmdVel(std::size_t drive, const geometry_msgs::Twist::ConstPtr& msg) {
-  Drive& d = drives_[drive];
+std::vector<sim::FramePose> Simulator::odometryAnchors() const {
+  std::vector<sim::FramePose> out;
+  for (const Drive& d : drives_)
+    if (d.publish_tf && d.model.odometry_frame != world_->config().world_frame &&
+        !world_->model().link_owner.count(d.model.odometry_frame))
+      out.push_back({world_->config().world_frame, d.model.odometry_frame, d.X_WO});
+  return out;
+}
+
+void Simulator::onCmdVel(const std::string& controller, const geometry_msgs::Twist::ConstPtr& msg) {
+  const auto it = std::find_if(drives_.begin(), drives_.end(), [&controller](const Drive& d) {
+    return d.controller == controller;
+  });
+  if (it == drives_.end()) return;  // its robot was deleted while the message waited
+  Drive& d = *it;
   if (!std::isfinite(msg->linear.x) || !std::isfinite(msg->angular.z)) {
     refuse(d.model.command_topic, d.model.command_topic +
                                       ": linear.x and angular.z must be finite (the message "
@@ -86,10 +131,11 @@ void Simulator::onCmdVel(std::size_t drive, const geometry_msgs::Twist::ConstPtr
   const double r = 0.5 * d.model.wheel_diameter, half = 0.5 * d.model.wheel_separation;
   const double left = (msg->linear.x - msg->angular.z * half) / r;
   const double right = (msg->linear.x + msg->angular.z * half) / r;
-  std::vector<double> speeds;
-  for (std::size_t k = 0; k < d.model.left_joints.size(); ++k) speeds.push_back(left);
-  for (std::size_t k = 0; k < d.model.right_joints.size(); ++k) speeds.push_back(right);
-  auto done = world_->commandGroup(d.controller, speeds);
+  const std::size_t n_left = d.model.left_joints.size();
+  for (std::size_t k = 0; k < d.target.size(); ++k) d.target[k] = k < n_left ? left : right;
+  if (d.model.wheel_acceleration > 0) return;  // publishDrives ramps the commands
+  d.commanded = d.target;
+  auto done = world_->commandGroup(d.controller, d.commanded);
   if (!done) refuse(d.model.command_topic, done.error());
 }
 
@@ -97,6 +143,16 @@ void Simulator::publishDrives() {
   if (drives_.empty()) return;
   const std::uint64_t s = world_->stepCount();
   for (Drive& d : drives_) {
+    // gazebo_ros_diff_drive's wheelAcceleration (m/s² at the wheel's rim): each step the
+    // commanded speeds move towards cmd_vel's by at most a/r · dt.
+    if (d.model.wheel_acceleration > 0 && d.commanded != d.target) {
+      const double step =
+          d.model.wheel_acceleration / (0.5 * d.model.wheel_diameter) * world_->config().dt;
+      for (std::size_t k = 0; k < d.target.size(); ++k)
+        d.commanded[k] += std::clamp(d.target[k] - d.commanded[k], -step, step);
+      auto done = world_->commandGroup(d.controller, d.commanded);
+      if (!done) refuse(d.model.command_topic, done.error());
+    }
     if (!d.ticks.isTick(s) || d.last_step == s) continue;
     // The wheels' positions now (mean of each side), for the encoder's travel since the last
     // tick.

@@ -94,7 +94,8 @@ void Simulator::publishClock() {
 void Simulator::publishStaticFrames() {
   const std::uint64_t version = world_->topologyVersion();
   if (version == static_version_) return;
-  const std::vector<sim::FramePose> frames = world_->staticFrames();
+  std::vector<sim::FramePose> frames = world_->staticFrames();
+  for (sim::FramePose& anchor : odometryAnchors()) frames.push_back(std::move(anchor));
   // Latched: the one message a late subscriber gets must hold every static frame. A scene
   // without static frames sends nothing at start, but an empty message after a delete.
   if (!frames.empty() || static_version_ != UINT64_MAX)

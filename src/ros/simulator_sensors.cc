@@ -5,6 +5,7 @@
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cga_rigid_sim/format.h"
@@ -39,34 +40,48 @@ bool differentiates(scene::SensorKind kind) {
 
 }  // namespace
 
-void Simulator::startSensorTopics() {
-  const auto& declared = world_->scene().sensors;
-  if (declared.empty()) return;
-  sensors_ = std::make_unique<sensor::Sensors>(*world_, params_.sensor_seed);
+void Simulator::syncSensorTopics() {
   sensors_version_ = world_->topologyVersion();
+  if (world_->scene().sensors.sensors.empty() && sensor_topics_.empty()) return;
+  sensors_ = std::make_unique<sensor::Sensors>(*world_, params_.sensor_seed);
+  std::vector<SensorTopic> before = std::move(sensor_topics_);
+  sensor_topics_.clear();
   for (std::size_t k = 0; k < sensors_->size(); ++k) {
     const scene::SensorModel& s = sensors_->model(k);
-    SensorTopic topic{k, {}, TickSchedule(world_->config().dt, s.update_rate)};
-    switch (s.kind) {
-      case scene::SensorKind::kImu:
-        topic.publisher = nh_.advertise<sensor_msgs::Imu>(s.topic, kSensorQueueSize);
-        break;
-      case scene::SensorKind::kGroundTruth:
-        topic.publisher = nh_.advertise<nav_msgs::Odometry>(s.topic, kSensorQueueSize);
-        break;
-      case scene::SensorKind::kContact:
-        topic.publisher = nh_.advertise<cga_rigid_sim::ContactArray>(s.topic, kSensorQueueSize);
-        break;
-      case scene::SensorKind::kForceTorque:
-        if (!sensors_->measures(k)) {
-          ROS_WARN(
-              "simulator: force_torque sensor '%s' on joint '%s': the joint is fixed, merged into "
-              "its body, and transmits nothing the simulation resolves: %s stays silent",
-              s.name.c_str(), s.joint.c_str(), s.topic.c_str());
-          continue;
-        }
-        topic.publisher = nh_.advertise<geometry_msgs::WrenchStamped>(s.topic, kSensorQueueSize);
-        break;
+    if (s.kind == scene::SensorKind::kForceTorque && !sensors_->measures(k)) {
+      ROS_WARN(
+          "simulator: force_torque sensor '%s' on joint '%s': the joint is fixed, merged into "
+          "its body, and transmits nothing the simulation resolves: %s stays silent",
+          s.name.c_str(), s.joint.c_str(), s.topic.c_str());
+      continue;
+    }
+    // A sensor that had its topic before a spawn or a delete keeps it (and its subscribers).
+    const auto kept = std::find_if(before.begin(), before.end(), [&s](const SensorTopic& t) {
+      return t.kind == s.kind && t.topic == s.topic && t.publisher;
+    });
+    SensorTopic topic{k, s.kind, s.topic, {}, TickSchedule(world_->config().dt, s.update_rate)};
+    if (kept != before.end()) {
+      topic.publisher = kept->publisher;
+      topic.last_step = kept->last_step;
+      kept->publisher = ::ros::Publisher();
+    } else {
+      switch (s.kind) {
+        case scene::SensorKind::kImu:
+          topic.publisher = nh_.advertise<sensor_msgs::Imu>(s.topic, kSensorQueueSize);
+          break;
+        case scene::SensorKind::kGroundTruth:
+          topic.publisher = nh_.advertise<nav_msgs::Odometry>(s.topic, kSensorQueueSize);
+          break;
+        case scene::SensorKind::kContact:
+          topic.publisher = nh_.advertise<cga_rigid_sim::ContactArray>(s.topic, kSensorQueueSize);
+          break;
+        case scene::SensorKind::kForceTorque:
+          topic.publisher = nh_.advertise<geometry_msgs::WrenchStamped>(s.topic, kSensorQueueSize);
+          break;
+      }
+      if (!before.empty() || world_->stepCount() > 0)
+        ROS_INFO("simulator: sensor '%s' (%s) on '%s' -> %s", s.name.c_str(),
+                 scene::toString(s.kind), s.link.c_str(), s.topic.c_str());
     }
     if (differentiates(s.kind) && topic.ticks.isTick(world_->stepCount() + 1))
       sensors_->remember(k, *world_);
@@ -88,11 +103,9 @@ void Simulator::forgetSensors() {
 
 void Simulator::publishSensors() {
   if (sensor_topics_.empty()) return;
-  if (world_->topologyVersion() != sensors_version_) {
-    // Bodies came or went: the sensors' bodies are found again (their differences restart).
-    sensors_version_ = world_->topologyVersion();
-    forgetSensors();
-  }
+  // Bodies came or went (spawn and delete sync at once; this catches any other way): the
+  // sensors' bodies are found again (their differences restart).
+  if (world_->topologyVersion() != sensors_version_) syncSensorTopics();
   const std::uint64_t s = world_->stepCount();
   const ::ros::Time stamp = toRosTime(world_->time());
   for (SensorTopic& t : sensor_topics_) {

@@ -113,6 +113,8 @@ bool Simulator::onSpawnUrdf(cga_rigid_sim::SpawnUrdf::Request& req,
   }
   const auto& all = world_->scene().warnings;
   for (std::size_t k = warnings; k < all.size(); ++k) ROS_WARN("simulator: %s", all[k].c_str());
+  syncDrives();  // before the static frames (its odometry anchor) and the controllers' topics
+  syncSensorTopics();
   publishStaticFrames();
   publishNewMovingFrames();
   syncControllerTopics();
@@ -137,6 +139,8 @@ bool Simulator::onDeleteBody(cga_rigid_sim::DeleteBody::Request& req,
     refuse("delete_body", ok.error());
     return true;
   }
+  syncDrives();
+  syncSensorTopics();
   publishStaticFrames();
   syncControllerTopics();
   ROS_INFO("simulator: deleted '%s'", req.body.c_str());

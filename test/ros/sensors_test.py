@@ -24,6 +24,13 @@ Truths:
     drives it at 0.5 m/s (2 %) after 1.5 s, /odom (the skid steer reports the true pose, as the
     plugin does) equals /ground_truth/odom at the same stamp (1e-9), and /imu reads +g up
     (0.2 m/s^2: the chassis rides on its wheels' contacts) once at cruise;
+  - the rover spawned under the namespace r1 (~spawn_urdf) 2 m off the origin brings its
+    sensors and drive: r1/cmd_vel (0.5 m/s) drives it at 0.5 m/s (2 %) after 1.5 s, its
+    r1/odom (frame r1/odom, child r1/base_footprint) equals its r1/ground_truth/odom (1e-9),
+    its r1/imu (frame r1/chassis) reads +g up (0.2 m/s^2), /tf_static places r1/odom at the
+    world frame (the skid steer's odometry is the true pose: identity, 1e-12); ~delete_body r1
+    unadvertises its topics; the same rover with a diff drive (wheelAcceleration 0.5 m/s^2,
+    encoder odometry) as r2: a t after the command, its odometry from its start (1 cm);
   - the force-torque sensor at the shoulder of an arm at rest (test/ros/ft_arm.urdf) publishes
     geometry_msgs/WrenchStamped every 10 steps, frame the upper arm, with the weight below,
     (0, 0, 3 g) N, and its moment about the shoulder, (0, -1.4 g, 0) N m (1e-9: at rest the
@@ -35,10 +42,12 @@ import sys
 import threading
 import unittest
 
+import rosgraph
 import rospy
 import rostest
+import tf2_ros
 from cga_rigid_sim.msg import ContactArray
-from geometry_msgs.msg import Twist, WrenchStamped
+from geometry_msgs.msg import Pose, Twist, WrenchStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
@@ -184,6 +193,92 @@ class Sensors(unittest.TestCase):
         for got, want in [(f.x, 0.0), (f.y, 0.0), (f.z, 3 * G), (t.x, 0.0), (t.y, -1.4 * G),
                           (t.z, 0.0)]:
             self.assertAlmostEqual(got, want, delta=1e-9)
+
+
+    def test_a_spawned_rover_brings_its_sensors_and_drive(self):
+        sim = Simulator('/spawn/simulator')
+        buffer = tf2_ros.Buffer()
+        tf2_ros.TransformListener(buffer)
+        with open(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'urdf',
+                               'rover.urdf')) as f:
+            urdf = f.read()
+        pose = Pose()
+        pose.position.y, pose.position.z, pose.orientation.w = 2.0, 0.16, 1.0
+        res = sim.spawn('rover1', urdf, pose, Twist(), 'r1')
+        self.assertTrue(res.success, res.message)
+        truth = Listener('/spawn/r1/ground_truth/odom', Odometry)
+        odom = Listener('/spawn/r1/odom', Odometry)
+        imu = Listener('/spawn/r1/imu', Imu)
+        cmd = rospy.Publisher('/spawn/r1/cmd_vel', Twist, queue_size=10)
+        wait_until(lambda: cmd.get_num_connections() > 0, what='r1/cmd_vel connected')
+        sim.step(500)
+        forward = Twist()
+        forward.linear.x = 0.5
+        cmd.publish(forward)
+        rospy.sleep(0.5)  # the paused node services its callbacks: the command is in
+        end = sim.step(1500)
+        t = truth.at(end)
+        self.assertAlmostEqual(t.twist.twist.linear.x, 0.5, delta=0.01)
+        self.assertAlmostEqual(t.pose.pose.position.y, 2.0, delta=0.05)
+        o = odom.at(end)
+        self.assertEqual(o.header.frame_id, 'r1/odom')
+        self.assertEqual(o.child_frame_id, 'r1/base_footprint')
+        for a, b in [(o.pose.pose.position.x, t.pose.pose.position.x),
+                     (o.pose.pose.position.y, t.pose.pose.position.y)]:
+            self.assertAlmostEqual(a, b, delta=1e-9)
+        m = imu.at(end)
+        self.assertEqual(m.header.frame_id, 'r1/chassis')
+        a = m.linear_acceleration
+        self.assertLess(math.sqrt(a.x ** 2 + a.y ** 2 + (a.z - G) ** 2), 0.2, str(a))
+        anchor = buffer.lookup_transform('world', 'r1/odom', rospy.Time(0), rospy.Duration(10))
+        p = anchor.transform.translation
+        self.assertLess(math.sqrt(p.x ** 2 + p.y ** 2 + p.z ** 2), 1e-12)
+        self.assertTrue(sim.delete('rover1').success)
+        master = rosgraph.Master('/sensors_test')
+
+        def published(topic):
+            return any(name == topic for name, _ in master.getPublishedTopics('/spawn'))
+        wait_until(lambda: not published('/spawn/r1/imu'), what='r1/imu unadvertised')
+        self.assertFalse(published('/spawn/r1/odom'))
+        self.assertFalse(published('/spawn/r1/ground_truth/odom'))
+
+        # The same rover with a differential drive on its front axles instead (the rear wheels
+        # roll free), wheelAcceleration 0.5 m/s^2 and encoder odometry, spawned as r2 at
+        # (0, -2): 0.5 s after a 0.5 m/s command it moves at a t = 0.25 m/s (0.02: the servos'
+        # lag and the free wheels' damping), at 0.5 m/s after 1.5 s; its odometry, in the
+        # r2/odom frame that /tf_static puts at its start (0, -2, 0), follows the truth on
+        # grippy ground (1 cm).
+        start = urdf.index('<plugin name="skid_steer_drive"')
+        end = urdf.index('</plugin>', start) + len('</plugin>')
+        diff = urdf[:start] + (
+            '<plugin name="diff_drive" filename="libgazebo_ros_diff_drive.so">'
+            '<leftJoint>front_left_axle</leftJoint><rightJoint>front_right_axle</rightJoint>'
+            '<wheelSeparation>0.5</wheelSeparation><wheelDiameter>0.2</wheelDiameter>'
+            '<wheelTorque>5</wheelTorque><wheelAcceleration>0.5</wheelAcceleration>'
+            '<odometrySource>encoder</odometrySource><publishOdomTF>true</publishOdomTF>'
+            '</plugin>') + urdf[end:]
+        pose.position.y = -2.0
+        res = sim.spawn('rover2', diff, pose, Twist(), 'r2')
+        self.assertTrue(res.success, res.message)
+        truth = Listener('/spawn/r2/ground_truth/odom', Odometry)
+        odom = Listener('/spawn/r2/odom', Odometry)
+        cmd = rospy.Publisher('/spawn/r2/cmd_vel', Twist, queue_size=10)
+        wait_until(lambda: cmd.get_num_connections() > 0, what='r2/cmd_vel connected')
+        sim.step(300)
+        cmd.publish(forward)
+        rospy.sleep(0.5)
+        half = sim.step(500)
+        self.assertAlmostEqual(truth.at(half).twist.twist.linear.x, 0.25, delta=0.02)
+        end = sim.step(1000)
+        t, o = truth.at(end), odom.at(end)
+        self.assertAlmostEqual(t.twist.twist.linear.x, 0.5, delta=0.02)
+        self.assertEqual(o.header.frame_id, 'r2/odom')
+        self.assertAlmostEqual(o.pose.pose.position.x, t.pose.pose.position.x, delta=0.01)
+        self.assertAlmostEqual(o.pose.pose.position.y, t.pose.pose.position.y + 2.0, delta=0.01)
+        anchor = buffer.lookup_transform('world', 'r2/odom', rospy.Time(0), rospy.Duration(10))
+        p = anchor.transform.translation
+        self.assertLess(math.sqrt(p.x ** 2 + (p.y + 2.0) ** 2 + p.z ** 2), 1e-9)
+        self.assertTrue(sim.delete('rover2').success)
 
 
 if __name__ == '__main__':
