@@ -11,6 +11,7 @@
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sensor/sensors.h"
 #include "cga_rigid_sim/sim/world.h"
+#include "common/urdf_world.h"
 
 namespace cga_rigid_sim {
 namespace sensor {
@@ -21,13 +22,7 @@ using List = scene::ParamValue::List;
 
 std::unique_ptr<sim::World> makeWorld(const std::string& urdf, sim::WorldConfig config = {},
                                       scene::ParamValue initial = {}) {
-  scene::SceneOptions options;
-  options.initial_state = std::move(initial);
-  auto scene = scene::loadUrdfString(urdf, "bumper_test.urdf", options);
-  EXPECT_TRUE(scene) << scene.error();
-  auto world = sim::World::create(std::move(*scene), config);
-  EXPECT_TRUE(world) << world.error();
-  return std::move(*world);
+  return test::worldFromUrdf(urdf, config, std::move(initial));
 }
 
 TEST(Bumper, ListsExactlyTheContactsOfItsLink) {

@@ -13,6 +13,7 @@
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "cga_rigid_sim/tree/articulated_body.h"
+#include "common/urdf_world.h"
 
 namespace cga_rigid_sim {
 namespace sensor {
@@ -21,13 +22,7 @@ namespace force_torque_test {
 constexpr double kG = 9.81;
 
 std::unique_ptr<sim::World> makeWorld(const std::string& urdf, scene::ParamValue initial = {}) {
-  scene::SceneOptions options;
-  options.initial_state = std::move(initial);
-  auto scene = scene::loadUrdfString(urdf, "ft_test.urdf", options);
-  EXPECT_TRUE(scene) << scene.error();
-  auto world = sim::World::create(std::move(*scene), sim::WorldConfig{});
-  EXPECT_TRUE(world) << world.error();
-  return std::move(*world);
+  return test::worldFromUrdf(urdf, {}, std::move(initial));
 }
 
 // A two-link arm from a base 1 m up: the shoulder and the elbow turn about `axis`; link 1 (2 kg)

@@ -12,6 +12,7 @@
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sensor/sensors.h"
 #include "cga_rigid_sim/sim/world.h"
+#include "common/urdf_world.h"
 
 namespace cga_rigid_sim {
 namespace sensor {
@@ -34,12 +35,7 @@ std::unique_ptr<sim::World> makeWorld(const std::string& urdf, sim::WorldConfig 
                                       Eigen::Vector3d g = Eigen::Vector3d(0, 0, -kG)) {
   scene::SceneOptions options;
   options.gravity_W = g;
-  options.initial_state = std::move(initial_state);
-  auto scene = scene::loadUrdfString(urdf, "imu_test.urdf", options);
-  EXPECT_TRUE(scene) << scene.error();
-  auto world = sim::World::create(std::move(*scene), config);
-  EXPECT_TRUE(world) << world.error();
-  return std::move(*world);
+  return test::worldFromUrdf(urdf, config, std::move(initial_state), options);
 }
 
 // An IMU plugin on `link` at <pose>, with `noise` inside <imu>.

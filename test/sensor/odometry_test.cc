@@ -10,6 +10,7 @@
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sensor/sensors.h"
 #include "cga_rigid_sim/sim/world.h"
+#include "common/urdf_world.h"
 
 namespace cga_rigid_sim {
 namespace sensor {
@@ -20,13 +21,7 @@ using List = scene::ParamValue::List;
 
 std::unique_ptr<sim::World> makeWorld(const std::string& urdf, sim::WorldConfig config = {},
                                       scene::ParamValue initial = {}) {
-  scene::SceneOptions options;
-  options.initial_state = std::move(initial);
-  auto scene = scene::loadUrdfString(urdf, "odometry_test.urdf", options);
-  EXPECT_TRUE(scene) << scene.error();
-  auto world = sim::World::create(std::move(*scene), config);
-  EXPECT_TRUE(world) << world.error();
-  return std::move(*world);
+  return test::worldFromUrdf(urdf, config, std::move(initial));
 }
 
 // A body whose centre of mass sits 0.2 m off its link's origin (so the origin's velocity has an
