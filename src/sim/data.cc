@@ -41,6 +41,8 @@ Result<TreeData> makeTreeData(const Model& model, int t) {
   d.drift_loads.effort = Eigen::VectorXd::Zero(n);
   d.contact_shift = Eigen::VectorXd::Zero(tm.body.velocityCount());
   d.contact_nu = Eigen::VectorXd::Zero(tm.body.velocityCount());
+  d.limited_end.q = Eigen::VectorXd::Zero(n);
+  d.limited_end.v = Eigen::VectorXd::Zero(n);
   return d;
 }
 

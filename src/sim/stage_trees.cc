@@ -19,22 +19,50 @@ namespace {
 constexpr double kLimitTolerance = 1e-9;  // rad or m
 // What a step in which a limit stopped a joint took (the stop's impulse is not a force whose work
 // could be summed): the energy before plus the inputs' work (trapezoidal) minus the energy after.
+// The energies come from kinematics the step has anyway where it can: the end state's from the
+// integrator (lastKinematics), the start's from the last limited step's end when the tree starts
+// from that very state (a robot resting on its stops: every step is limited); the start's
+// kinematics are made only for applied loads' power or a state changed in between.
 double limitedStepBook(const Model& model, Data& data, int t) {
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
-  const TreeData& td = data.trees[t];
+  TreeData& td = data.trees[t];
   dynamics::TreeKinematics& kin = data.tree_scratch.book_kin;
-  dynamics::TreeState& before = data.tree_scratch.before;
-  before = td.state;
-  before.q = td.q_before;
-  before.v = td.v_before;
-  before.M_W0 = td.M_W0_before;
-  before.omega_0 = td.omega_0_before;
-  dynamics::treeKinematics(tree, before, kin);
-  const double E0 = treeEnergy(model, t, kin);
-  const double P0 = treeInputPower(model, data, t, kin, before.v);
-  dynamics::treeKinematics(tree, td.state, kin);
-  const double P1 = treeInputPower(model, data, t, kin, td.state.v);
-  return E0 + 0.5 * model.config.dt * (P0 + P1) - treeEnergy(model, t, kin);
+  const bool applied = std::any_of(td.loads.applied.begin(), td.loads.applied.end(),
+                                   [](const dynamics::Loads* l) { return l != nullptr; });
+  TreeData::LimitedEnd& last = td.limited_end;
+  const bool from_last = last.valid && !applied && last.q == td.q_before && last.v == td.v_before &&
+                         last.M_W0.coefficients() == td.M_W0_before.coefficients() &&
+                         last.omega_0.rot == td.omega_0_before.rot &&
+                         last.omega_0.trans == td.omega_0_before.trans;
+  double E0 = 0.0, P0 = 0.0;
+  if (from_last) {
+    E0 = last.energy;
+    P0 = td.loads.effort.dot(td.v_before);  // treeInputPower without applied loads
+  } else {
+    dynamics::TreeState& before = data.tree_scratch.before;
+    before = td.state;
+    before.q = td.q_before;
+    before.v = td.v_before;
+    before.M_W0 = td.M_W0_before;
+    before.omega_0 = td.omega_0_before;
+    dynamics::treeKinematics(tree, before, kin);
+    E0 = treeEnergy(model, t, kin);
+    P0 = treeInputPower(model, data, t, kin, before.v);
+  }
+  const dynamics::TreeKinematics* end = td.integrator->lastKinematics();
+  if (!end) {
+    dynamics::treeKinematics(tree, td.state, kin);
+    end = &kin;
+  }
+  const double P1 = treeInputPower(model, data, t, *end, td.state.v);
+  const double E1 = treeEnergy(model, t, *end);
+  last.valid = true;
+  last.energy = E1;
+  last.q = td.state.q;  // (vectors of the same size: no allocation)
+  last.v = td.state.v;
+  last.M_W0 = td.state.M_W0;
+  last.omega_0 = td.state.omega_0;
+  return E0 + 0.5 * model.config.dt * (P0 + P1) - E1;
 }
 
 // A joint past its limit beyond round-off: records the fault (the worst joint).

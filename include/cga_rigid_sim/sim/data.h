@@ -145,6 +145,16 @@ struct TreeData {
   Eigen::VectorXd q_before, v_before;
   cga::Motor M_W0_before;
   cga::Bivelocity omega_0_before;
+  /// The energy at the end of its last step that a joint stop limited, and that end state: the
+  /// book of a next limited step starting from the very same state takes its energy from here
+  /// instead of a kinematics pass (stage_trees.cc). Sized when the tree's data is made.
+  struct LimitedEnd {
+    bool valid = false;
+    double energy = 0.0;  ///< J, kinetic plus potential
+    Eigen::VectorXd q, v;
+    cga::Motor M_W0;
+    cga::Bivelocity omega_0;
+  } limited_end;
   /// The generalized velocity ν after the contact impulses (takeTreeImpulses' work array, sized
   /// velocityCount()).
   Eigen::VectorXd contact_nu;
