@@ -86,7 +86,8 @@ std::optional<Error> checkContactModel(const ContactModel& m) {
   for (const auto& [name, value] :
        {std::pair<const char*, double>{"stribeck_speed", m.stribeck_speed},
         {"restitution_reference_speed", m.restitution_reference_speed},
-        {"face_friction_ratio", m.face_friction_ratio}})
+        {"face_friction_ratio", m.face_friction_ratio},
+        {"impact_friction_ratio", m.impact_friction_ratio}})
     if (!std::isfinite(value) || !(value > 0))
       return Error("config", field(name), "must be finite and > 0 (got " + num(value) + ")");
   for (const auto& [name, value] :
