@@ -4,6 +4,7 @@ in-process numbers, a failed simulation reported without losing the others, the 
 import copy
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -132,3 +133,26 @@ def test_cross_validation_report_is_deterministic(tmp_path):
     assert '| plain | 0 | 004–007 | 000–003 |' in report
     for png in ('errors_per_run.png', 'error_vs_time.png', 'sensitivity.png'):
         assert os.path.getsize(tmp_path / 'b' / png) > 1000
+
+
+def test_inertia_scale_multiplies_every_moment_and_the_turn_an_impulse_gives():
+    # Truth: scale_inertia multiplies ixx … izz of every <inertia> by s and touches nothing else
+    # (the mass stays); an impulse J off the centre by p then turns the body by p × J / (s I):
+    # the cube's I = 0.00081 kg m², s = 1.25 (to round-off, 1e-12 rad/s).
+    urdf = open(URDF).read()
+    scaled = model.scale_inertia(urdf, 1.25)
+    assert model.scale_inertia(urdf, 1.0) == urdf
+    moments = dict(re.findall(r'\b(i[xyz]{2})="([^"]*)"', scaled))
+    assert {k: float(v) for k, v in moments.items()} == pytest.approx(
+        {'ixx': 1.25 * 0.00081, 'iyy': 1.25 * 0.00081, 'izz': 1.25 * 0.00081, 'ixy': 0.0,
+         'ixz': 0.0, 'iyz': 0.0}, rel=1e-15)
+    assert '<mass value="0.37" />' in scaled
+    w = cs.world_from_urdf(scaled, gravity=[0, 0, 0])
+    w.apply_impulse('body', [0.0, 0.0, 0.01], point=[0.05, 0.0, 0.0])
+    w.step()
+    v = w.velocities()[0]
+    assert np.allclose(v[:3], [0, 0, 0.01 / 0.37], atol=1e-12)
+    assert np.allclose(v[3:], np.cross([0.05, 0, 0], [0, 0, 0.01]) / (1.25 * 0.00081),
+                       atol=1e-12)
+    with pytest.raises(model.ParameterError, match='inertia_scale'):
+        model.world_options({'inertia_scale': 0.0}, 1e-3)
