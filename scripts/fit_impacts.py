@@ -20,6 +20,7 @@ With --sim the same quantities are measured on simulated poses from the same sta
 parameters, inertia_scale included). The point-impulse prediction uses the URDF's inertia.
 """
 import argparse
+import copy
 import json
 import math
 import os
@@ -121,6 +122,85 @@ def measure(positions, quats, st, height):
     return out
 
 
+def turn_rates(quats):
+    """|ω| over each sample interval, rad/s."""
+    rel = scoring.quat_mul(quats[1:], scoring.quat_conj(quats[:-1]))
+    return np.linalg.norm(scoring.rotation_vector(rel), axis=1) * RATE
+
+
+def settle_index(quats):
+    """The first sample from which the cube lies flat for good (tilt below 3°)."""
+    up = np.stack([scoring.quat_rotate(quats, np.tile(e, (len(quats), 1))) for e in np.eye(3)], 1)
+    flat = np.degrees(np.arccos(np.clip(np.abs(up[:, :, 2]).max(1), 0, 1))) < 3
+    k = len(flat)
+    while k > 0 and flat[k - 1]:
+        k -= 1
+    return k
+
+
+def later(runs, sims):
+    """After the first impact: the angle turned in the first 0.4 s, what |ω| keeps where it
+    falls by more than a quarter in one sample, and when the cube lies flat, measured and
+    simulated."""
+    turned, kept, settle = {'data': [], 'sim': []}, {'data': [], 'sim': []}, []
+    for run, sim in zip(runs, sims):
+        if not sim['ok']:
+            continue
+        for side, q in (('data', run.quaternion), ('sim', sim['poses'][:, 3:])):
+            w = turn_rates(q)
+            turned[side].append(w[:60].sum() / RATE)
+            kept[side] += [min(w[k + 1], w[k + 2]) / w[k] for k in range(6, min(len(w) - 2, 74))
+                           if w[k] > 3 and w[k + 1] < 0.75 * w[k]]
+        settle.append(settle_index(sim['poses'][:, 3:]) - settle_index(run.quaternion))
+    d, s = np.array(turned['data']), np.array(turned['sim'])
+    print('angle turned in the first 0.4 s (median): data %.2f rad, sim %.2f rad; the sim less '
+          'by more than 0.3 rad in %d runs' % (np.median(d), np.median(s), (s < d - 0.3).sum()))
+    for side in ('data', 'sim'):
+        q = np.percentile(kept[side], [50, 25, 75])
+        print('  %s: |w| kept where it falls by more than 1/4 in a sample: %.2f [%.2f %.2f] '
+              '(%d drops)' % (side, *q, len(kept[side])))
+    settle = np.array(settle)
+    print('the sim lies flat %.0f ms before the data on average; sooner by more than 10 samples '
+          'in %d runs, later in %d' % (-1000 * settle.mean() / RATE, (settle < -10).sum(),
+                                        (settle > 10).sum()))
+
+
+def face_changes(urdf, runs, nominal, params, draws, perturb=None, scatter=None):
+    """Runs whose final attitude differs by more than 40° from the nominal simulation's when
+    each start (perturb = (relative ω, m/s)) or each run's μ and e (scatter = (relative μ, e))
+    is drawn afresh, `draws` times (seed 0)."""
+    rng = np.random.default_rng(0)
+    changed = np.zeros(len(runs), int)
+    rotation = []
+    for _ in range(draws):
+        res = []
+        for run in runs:
+            st = copy.copy(run.start)
+            p = dict(params)
+            if perturb:
+                w = st.omega_world
+                st.omega_world = w + perturb[0] * np.linalg.norm(w) * rng.normal(size=3) / 3 ** .5
+                st.velocity = st.velocity + perturb[1] * rng.normal(size=3) / 3 ** .5
+            if scatter:
+                p['mu'] = p.get('mu', 0.5) * (1 + scatter[0] * rng.normal())
+                p['restitution'] = min(1.0, max(0.0, p.get('restitution', 0.0)
+                                                + scatter[1] * rng.normal()))
+            r = copy.copy(run)
+            r.start = st
+            res += model.simulate_runs(urdf, 'body', [r], p, 1.0 / (RATE * 7), 2 * HALF,
+                                       keep_poses=True)
+        for i, (a, b) in enumerate(zip(nominal, res)):
+            if a['ok'] and b['ok'] and math.degrees(scoring.rotation_angle(
+                    a['poses'][-1, 3:], b['poses'][-1, 3:])) > 40:
+                changed[i] += 1
+        rotation.append(np.degrees(np.nanmean([b['rotation'] for b in res])))
+    print('final face changed in %d runs in any of %d draws, %.1f per draw; mean rotation error '
+          'per draw %s deg (nominal %.1f)' % ((changed > 0).sum(), draws, changed.sum() / draws,
+                                              np.round(rotation, 1),
+                                              np.degrees(np.nanmean([a['rotation']
+                                                                     for a in nominal]))))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('data')
@@ -129,6 +209,12 @@ def main(argv=None):
     ap.add_argument('--runs', default=None, help='first:last (inclusive) run indices')
     ap.add_argument('--json', default=None, help='write every impact measured to this file')
     ap.add_argument('--urdf', default=None, help='the cube (default DATA_DIR/cube.urdf)')
+    ap.add_argument('--perturb', default=None, metavar='W,V,N',
+                    help='with --sim: draw each start N times, ω changed by W of itself and v by '
+                         'V m/s (random directions), and count the runs ending on another face')
+    ap.add_argument('--scatter', default=None, metavar='MU,E,N',
+                    help='with --sim: draw μ (relative standard deviation MU) and e (standard '
+                         'deviation E) afresh for each run, N times, and count the same')
     args = ap.parse_args(argv)
     global HALF, MASS, INERTIA
     urdf = open(args.urdf or os.path.join(args.data, 'cube.urdf')).read()
@@ -155,6 +241,7 @@ def main(argv=None):
             ms = measure(poses[:, :3], poses[:, 3:], run.start, args.height)
             row['sim'] = ms
         rows.append(row)
+
     def summary(side):
         rs = [row[side] for row in rows if row.get(side) is not None]
         if not rs:
@@ -177,6 +264,12 @@ def main(argv=None):
             print('  %-56s %6.3f [%6.3f %6.3f]' % (name, *q))
     summary('data')
     summary('sim')
+    if sims is not None:
+        later(runs, sims)
+        for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
+            if opt:
+                a, b, n = opt.split(',')
+                face_changes(urdf, runs, sims, params, int(n), **{key: (float(a), float(b))})
     if args.json:
         def conv(o):
             if isinstance(o, np.ndarray):
