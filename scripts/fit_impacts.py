@@ -122,10 +122,10 @@ def measure(positions, quats, st, height):
     return out
 
 
-def turn_rates(quats):
-    """|ω| over each sample interval, rad/s."""
+def turn_vectors(quats):
+    """ω (world axes) over each sample interval, rad/s."""
     rel = scoring.quat_mul(quats[1:], scoring.quat_conj(quats[:-1]))
-    return np.linalg.norm(scoring.rotation_vector(rel), axis=1) * RATE
+    return scoring.rotation_vector(rel) * RATE
 
 
 def settle_index(quats):
@@ -142,23 +142,30 @@ def later(runs, sims):
     """After the first impact: the angle turned in the first 0.4 s, what |ω| keeps where it
     falls by more than a quarter in one sample, and when the cube lies flat, measured and
     simulated."""
-    turned, kept, settle = {'data': [], 'sim': []}, {'data': [], 'sim': []}, []
+    turned, settle = {'data': [], 'sim': []}, []
+    kept, signed = {'data': [], 'sim': []}, {'data': [], 'sim': []}
     for run, sim in zip(runs, sims):
         if not sim['ok']:
             continue
         for side, q in (('data', run.quaternion), ('sim', sim['poses'][:, 3:])):
-            w = turn_rates(q)
+            wv = turn_vectors(q)
+            w = np.linalg.norm(wv, axis=1)
             turned[side].append(w[:60].sum() / RATE)
-            kept[side] += [min(w[k + 1], w[k + 2]) / w[k] for k in range(6, min(len(w) - 2, 74))
-                           if w[k] > 3 and w[k + 1] < 0.75 * w[k]]
+            for k in range(6, min(len(w) - 2, 74)):
+                if w[k] > 3 and w[k + 1] < 0.75 * w[k]:  # a drop: an impact after the first
+                    j = k + 1 if w[k + 1] <= w[k + 2] else k + 2
+                    kept[side].append(w[j] / w[k])
+                    signed[side].append(wv[j] @ wv[k] / w[k] ** 2)  # < 0: the turn reversed
         settle.append(settle_index(sim['poses'][:, 3:]) - settle_index(run.quaternion))
     d, s = np.array(turned['data']), np.array(turned['sim'])
     print('angle turned in the first 0.4 s (median): data %.2f rad, sim %.2f rad; the sim less '
           'by more than 0.3 rad in %d runs' % (np.median(d), np.median(s), (s < d - 0.3).sum()))
     for side in ('data', 'sim'):
         q = np.percentile(kept[side], [50, 25, 75])
-        print('  %s: |w| kept where it falls by more than 1/4 in a sample: %.2f [%.2f %.2f] '
-              '(%d drops)' % (side, *q, len(kept[side])))
+        r = np.percentile(signed[side], [50, 25, 75])
+        print('  %s: |w| kept where it falls by more than 1/4 in a sample: %.2f [%.2f %.2f]; '
+              'along its direction %.2f [%.2f %.2f], reversed (< -0.1) in %.0f %% of %d drops'
+              % (side, *q, *r, 100 * np.mean(np.array(signed[side]) < -0.1), len(kept[side])))
     settle = np.array(settle)
     print('the sim lies flat %.0f ms before the data on average; sooner by more than 10 samples '
           'in %d runs, later in %d' % (-1000 * settle.mean() / RATE, (settle < -10).sum(),
