@@ -156,3 +156,23 @@ def test_inertia_scale_multiplies_every_moment_and_the_turn_an_impulse_gives():
                        atol=1e-12)
     with pytest.raises(model.ParameterError, match='inertia_scale'):
         model.world_options({'inertia_scale': 0.0}, 1e-3)
+
+
+def test_impacts_reads_the_simulated_friction_in_impacts_back(tmp_path):
+    # Truth: a landing corner that slides through its impact takes |P_t| = μ_i P_n, so `fit
+    # impacts` measuring the simulated first impacts on one corner reads back the model's
+    # friction in impacts, μ k_i (0.12 · 0.75; off, 0.12). The interval it measures after the
+    # impact holds ~7 ms more of the same sliding contact: to 1e-3 (the median; a second corner
+    # touching within it would move one run's). An edge's two corners slide in different
+    # directions, their friction partly cancelling: left out.
+    from cga_rigid_sim.sysid import impacts
+    for ratio in (0.75, 1.0):
+        out = tmp_path / ('%g.json' % ratio)
+        assert impacts.main([DATA, '--json', str(out), '--sim', 'mu=0.12,restitution=0.3,'
+                             'height=-0.0012,impact_friction_ratio=%g' % ratio]) == 0
+        rows = json.load(open(out))
+        sliding = [r['sim'] for r in rows if r.get('sim') and r['sim']['kind'] == 'corner'
+                   and r['sim']['ut_post'] > 0.05]
+        assert len(sliding) >= 3
+        assert np.median([r['Pt'] / r['Pn'] for r in sliding]) == pytest.approx(0.12 * ratio,
+                                                                                 abs=1e-3)

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The first impact of each measured cube toss, from the tracked poses
 (doc/fitting.md#the-first-impact-measured).
 
@@ -9,9 +8,7 @@ after (the velocities over the first whole sample interval after it), the landin
 point impulse at the landing point moves ω by I⁻¹ (r × P); what the poses show beside it is
 printed, with the impact's restitution at the landing point and its friction ratio |P_t|/P_n.
 
-  source build/ws/devel/setup.bash
-  /usr/bin/python3 scripts/fit_impacts.py DATA_DIR [--height -0.0012] [--json OUT] \
-      [--sim mu=0.18,restitution=0.1,...]
+  scripts/fit impacts DATA_DIR [--height -0.0012] [--json OUT] [--sim mu=0.18,...]
 
 The body is a cube: its mass, moment of inertia and width are read from DATA_DIR/cube.urdf
 (--urdf another), the first <mass>, ixx and <box size> in it.
@@ -32,7 +29,7 @@ import sys
 
 import numpy as np
 
-from cga_rigid_sim.sysid import model, scoring, trajectories
+from . import model, scoring, trajectories
 
 RATE = 148.0
 POST = 2
@@ -46,7 +43,7 @@ def read_cube(urdf_text):
     def first(pattern):
         m = re.search(pattern, urdf_text)
         if not m:
-            raise SystemExit('fit_impacts: the URDF has no %s' % pattern)
+            raise SystemExit('fit impacts: the URDF has no %s' % pattern)
         return m.group(1)
     size = [float(x) for x in first(r'<box\s+size="([^"]*)"').split()]
     return (0.5 * max(size), float(first(r'<mass\s+value="([^"]*)"')),
@@ -212,7 +209,7 @@ def face_changes(urdf, runs, nominal, params, draws, perturb=None, scatter=None)
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = argparse.ArgumentParser(prog='fit impacts', description=__doc__.split('\n\n')[0])
     ap.add_argument('data')
     ap.add_argument('--height', type=float, default=-0.0012)
     ap.add_argument('--sim', default=None, help='parameters name=value,...')
