@@ -45,7 +45,8 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   c.target_t.setZero();
   if (bounce && (c.restitution > 0 || st.model.tangential_restitution > 0) && impact) {
     c.impact = -u_n;
-    target = std::max(target, restitutionCoefficient(st.model, c.restitution, c.impact) * c.impact);
+    const double e = c.face ? faceRestitution(st.model, c.restitution) : c.restitution;
+    target = std::max(target, restitutionCoefficient(st.model, e, c.impact) * c.impact);
     // Tangential restitution (doc/contact_model.md): the slip reversed, if the cone allows.
     if (st.model.tangential_restitution > 0)
       c.target_t = -st.model.tangential_restitution * Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u));

@@ -1,7 +1,7 @@
 // The contact model's extensions (doc/contact_model.md) against analytic solutions: static
 // against kinetic friction, rolling and torsional resistance of a patch, speed-dependent and
-// tangential restitution, rounded edges, compliant contact, a face's friction, friction in an
-// impact; and off, the plain model to the bit.
+// tangential restitution, rounded edges, compliant contact, a face's friction and bounce,
+// friction in an impact; and off, the plain model to the bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -299,6 +299,39 @@ TEST(ContactModel, AnImpactSlidesWithTheImpactFrictionRatio) {
   EXPECT_NEAR(w->bodyStates()[0].linear_velocity.x(), v0 - mu * kG * 0.1, 1e-10);
 }
 
+// Truth (a face landing flat): a box dropped flat from h0 lands on its four corners, a face
+// block, at v1 = √(2 g h0) and leaves at f e v1, so its first apex is (f e v1)² / (2 g); a ball
+// dropped beside it lands on one contact and keeps e: (e v1)² / (2 g). Both land at the instant
+// of touch: exact but for the step's sampling, ½ g h² = 4.9e-6 m (tolerance 1e-5 m, as
+// Johnson's test).
+TEST(ContactModel, AFaceLandingFlatBouncesWithTheFaceRestitutionRatio) {
+  const double h0 = 0.5, a = 0.1, r = 0.1, e = 0.6, f = 0.5;
+  sim::ContactModel m;
+  m.face_restitution_ratio = f;
+  sim::WorldConfig config;
+  config.contact_restitution = e;
+  config.ground_plane = sim::GroundPlane{};
+  config.contact_model = m;
+  auto w = sim::World::create(makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, a + h0}),
+                                         ball("s", 1.0, r, {3, 0, r + h0})},
+                                        {0, 0, -kG}),
+                              config);
+  ASSERT_TRUE(w.ok()) << w.error();
+  const double v1 = std::sqrt(2 * kG * h0);
+  double prev[2] = {0, 0}, apex[2] = {-1, -1};
+  for (int s = 0; s < 1500 && (apex[0] < 0 || apex[1] < 0); ++s) {
+    (*w)->step();
+    for (int k = 0; k < 2; ++k) {
+      const double vz = (*w)->bodyStates()[k].linear_velocity.z();
+      if (apex[k] < 0 && prev[k] > 0 && vz <= 0)
+        apex[k] = (*w)->bodyStates()[k].com.z() - (k == 0 ? a : r);
+      prev[k] = vz;
+    }
+  }
+  EXPECT_NEAR(apex[0], std::pow(f * e * v1, 2) / (2 * kG), 1e-5);
+  EXPECT_NEAR(apex[1], std::pow(e * v1, 2) / (2 * kG), 1e-5);
+}
+
 // Truth: the rules of doc/contact_model.md, each refused by name.
 TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
   const auto scene = makeScene({ball("s", 1.0, 0.1, {0, 0, 0.1})}, {0, 0, -kG});
@@ -324,6 +357,8 @@ TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
        "contact_model.face_friction_ratio: must be finite and > 0"},
       {[](sim::ContactModel& m) { m.impact_friction_ratio = -0.5; },
        "contact_model.impact_friction_ratio: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.face_restitution_ratio = 1.5; },
+       "contact_model.face_restitution_ratio: must be in [0, 1]"},
       {[](sim::ContactModel& m) { m.normal_stiffness = -1.0; },
        "contact_model.normal_stiffness: must be finite and >= 0"},
       {[](sim::ContactModel& m) { m.restitution_reference_speed = 0.0; },

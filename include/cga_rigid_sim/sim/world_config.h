@@ -91,13 +91,19 @@ struct ContactModel {
   /// the step — has the coefficient impact_friction_ratio · μ in that step, and μ again once it
   /// rests or slides on (1: off).
   double impact_friction_ratio = 1.0;
+  /// Restitution of a face landing flat: a contact of a face block (three or four coplanar
+  /// corners between the same bodies) in an impact bounces with face_restitution_ratio · e, a
+  /// corner or an edge landing alone keeps e (1: off). A face meeting a surface flat pushes
+  /// the air between them out and rings as a plate; a corner does neither.
+  double face_restitution_ratio = 1.0;
 
   bool compliant() const { return normal_stiffness > 0.0; }
   bool anyOn() const {
     return static_friction_ratio != 1.0 || rolling_resistance != 0.0 ||
            torsional_resistance != 0.0 || restitution_speed_exponent != 0.0 ||
            box_edge_radius != 0.0 || compliant() || tangential_restitution != 0.0 ||
-           face_friction_ratio != 1.0 || impact_friction_ratio != 1.0;
+           face_friction_ratio != 1.0 || impact_friction_ratio != 1.0 ||
+           face_restitution_ratio != 1.0;
   }
 };
 

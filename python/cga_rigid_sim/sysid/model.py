@@ -38,6 +38,8 @@ PARAMETERS = {
                             'friction of a face over that of an edge or corner, > 0'),
     'impact_friction_ratio': (0.0, math.inf, 1.0, 'model',
                               'friction in an impact over that of a resting or sliding one, > 0'),
+    'face_restitution_ratio': (0.0, 1.0, 1.0, 'model',
+                               'restitution of a face landing flat over that of a corner or edge'),
     'inertia_scale': (0.0, math.inf, 1.0, 'body',
                       "the body's moments of inertia over the URDF's, > 0"),
 }
