@@ -20,6 +20,18 @@ inline double frictionCoefficient(const ContactModel& model, double mu, double s
   return mu * (1.0 + (model.static_friction_ratio - 1.0) * std::exp(-x * x));
 }
 
+/// Friction in an impact (pressure-dependent friction): μ times impact_friction_ratio. With the
+/// ratio 1 (off) it returns μ itself, unchanged to the bit.
+inline double impactFriction(const ContactModel& model, double mu) {
+  return model.impact_friction_ratio == 1.0 ? mu : model.impact_friction_ratio * mu;
+}
+
+/// The restitution of a face landing flat: e times face_restitution_ratio. With the ratio 1
+/// (off) it returns e itself, unchanged to the bit.
+inline double faceRestitution(const ContactModel& model, double e) {
+  return model.face_restitution_ratio == 1.0 ? e : model.face_restitution_ratio * e;
+}
+
 /// Johnson's speed-dependent restitution: an impact at normal speed v > 0 bounces with
 /// e(v) = min(1, e (v_ref / v)^p). With p = 0 (off) it returns e itself, unchanged to the bit.
 inline double restitutionCoefficient(const ContactModel& model, double e, double impact_speed) {

@@ -19,9 +19,13 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   const double u_n = c.n.dot(u);
   const double h = st.h;
   const double d = c.depth;
+  // An impact: the bodies approach faster than the resting threshold and touch within the
+  // step.
+  const bool impact = u_n < -st.bounce_speed && (d > 0 || u_n * h < d);
   c.mu = frictionCoefficient(st.model,
                              c.face ? st.model.face_friction_ratio * c.mu_surface : c.mu_surface,
                              (u - u_n * c.n).norm());
+  if (impact) c.mu = impactFriction(st.model, c.mu);
   c.impact = 0.0;
   c.compliant = st.model.compliant() && !onTree(c);
   if (c.compliant) {  // the spring's impulse; no target, no bounce
@@ -37,13 +41,12 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
   // ±1e-12 m / h under the four corners of a face would disagree, and Gauss–Seidel would
   // chase them for ever).
   double target = d >= -st.touching ? 0.0 : d / h;
-  // An impact: the bodies approach faster than the resting threshold and touch within the
-  // step. Newton's law sends them apart at e times the approach speed.
+  // At an impact Newton's law sends them apart at e times the approach speed.
   c.target_t.setZero();
-  if (bounce && (c.restitution > 0 || st.model.tangential_restitution > 0) &&
-      u_n < -st.bounce_speed && (d > 0 || u_n * h < d)) {
+  if (bounce && (c.restitution > 0 || st.model.tangential_restitution > 0) && impact) {
     c.impact = -u_n;
-    target = std::max(target, restitutionCoefficient(st.model, c.restitution, c.impact) * c.impact);
+    const double e = c.face ? faceRestitution(st.model, c.restitution) : c.restitution;
+    target = std::max(target, restitutionCoefficient(st.model, e, c.impact) * c.impact);
     // Tangential restitution (doc/contact_model.md): the slip reversed, if the cone allows.
     if (st.model.tangential_restitution > 0)
       c.target_t = -st.model.tangential_restitution * Eigen::Vector2d(c.t1.dot(u), c.t2.dot(u));

@@ -65,6 +65,8 @@ inline void contactModel(const py::handle& h, sim::ContactModel& out) {
                     : key == "normal_dissipation"          ? &out.normal_dissipation
                     : key == "tangential_restitution"      ? &out.tangential_restitution
                     : key == "face_friction_ratio"         ? &out.face_friction_ratio
+                    : key == "impact_friction_ratio"       ? &out.impact_friction_ratio
+                    : key == "face_restitution_ratio"      ? &out.face_restitution_ratio
                                                            : nullptr;
     if (!field)
       throw py::value_error("contact_model." + key +
@@ -72,7 +74,8 @@ inline void contactModel(const py::handle& h, sim::ContactModel& out) {
                             "rolling_resistance, torsional_resistance, "
                             "restitution_speed_exponent, restitution_reference_speed, "
                             "box_edge_radius, normal_stiffness, normal_dissipation, "
-                            "tangential_restitution, face_friction_ratio)");
+                            "tangential_restitution, face_friction_ratio, "
+                            "impact_friction_ratio, face_restitution_ratio)");
     *field = number(kv.second, "contact_model." + key);
   }
 }

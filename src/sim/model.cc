@@ -83,10 +83,16 @@ std::optional<Error> checkContactModel(const ContactModel& m) {
       m.tangential_restitution > 1)
     return Error("config", field("tangential_restitution"),
                  "must be in [0, 1] (got " + num(m.tangential_restitution) + ")");
+  if (!std::isfinite(m.face_restitution_ratio) || m.face_restitution_ratio < 0 ||
+      m.face_restitution_ratio > 1)
+    return Error("config", field("face_restitution_ratio"),
+                 "must be in [0, 1]: a face bounces at most as a corner (got " +
+                     num(m.face_restitution_ratio) + ")");
   for (const auto& [name, value] :
        {std::pair<const char*, double>{"stribeck_speed", m.stribeck_speed},
         {"restitution_reference_speed", m.restitution_reference_speed},
-        {"face_friction_ratio", m.face_friction_ratio}})
+        {"face_friction_ratio", m.face_friction_ratio},
+        {"impact_friction_ratio", m.impact_friction_ratio}})
     if (!std::isfinite(value) || !(value > 0))
       return Error("config", field(name), "must be finite and > 0 (got " + num(value) + ")");
   for (const auto& [name, value] :

@@ -1,7 +1,7 @@
 // The contact model's extensions (doc/contact_model.md) against analytic solutions: static
 // against kinetic friction, rolling and torsional resistance of a patch, speed-dependent and
-// tangential restitution, rounded edges, compliant contact, a face's friction; and off, the
-// plain model to the bit.
+// tangential restitution, rounded edges, compliant contact, a face's friction and bounce,
+// friction in an impact; and off, the plain model to the bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -265,6 +265,73 @@ TEST(ContactModel, AFaceSlidesWithTheFaceFrictionRatio) {
   EXPECT_NEAR(w->bodyStates()[0].com.x(), v0 * v0 / (2 * f * mu * kG), 1e-5);
 }
 
+// Truth (friction in an impact): a ball without spin hits the plane at v_n = 2 m/s down and
+// v_t = 1 m/s across, e = 0.5, μ = 0.08 and the impact ratio 0.5 (and 1, off). Its normal through
+// the centre decouples the normal from the slip: P_n = m (1 + e) v_n; the slip needs 2/7 m v_t
+// to stop, more than μ_i P_n (0.12 m; 0.24 m off), so it slides throughout and P_t = μ_i P_n:
+// it leaves with v_x = v_t − μ_i (1 + e) v_n and ω_y r = (5/2) μ_i (1 + e) v_n (a solid ball,
+// I = 2/5 m r²). Exact but for the solver's tolerance (1e-9 m/s). A ball sliding on the plane, no
+// impact, keeps μ: v0 − μ g t after 0.1 s (to 1e-10 m/s, as the face test's ball).
+TEST(ContactModel, AnImpactSlidesWithTheImpactFrictionRatio) {
+  const double r = 0.1, e = 0.5, mu = 0.08, ratio = 0.5, v_n = 2.0, v_t = 1.0, v0 = 2.0;
+  for (const double k : {ratio, 1.0}) {  // 1: off, the plain model's μ
+    sim::ContactModel m;
+    m.impact_friction_ratio = k;
+    sim::WorldConfig config;
+    config.contact_mu = mu;
+    config.contact_restitution = e;
+    config.ground_plane = sim::GroundPlane{};
+    config.contact_model = m;
+    auto w = sim::World::create(
+        makeScene({ball("b", 1.0, r, {0, 0, r + 0.0105}, {v_t, 0, -v_n})}, {0, 0, 0}), config);
+    ASSERT_TRUE(w.ok()) << w.error();
+    (*w)->step(20);
+    const auto b = (*w)->bodyStates()[0];
+    const double p_t = k * mu * (1 + e) * v_n;          // per unit mass
+    ASSERT_NEAR(b.linear_velocity.z(), e * v_n, 1e-9);  // it bounced, Newton's e
+    EXPECT_NEAR(b.linear_velocity.x(), v_t - p_t, 1e-9);
+    EXPECT_NEAR(b.angular_velocity.y() * r, 2.5 * p_t, 1e-9);
+  }
+  sim::ContactModel m;
+  m.impact_friction_ratio = ratio;
+  auto w = modelWorld(makeScene({ball("s", 1.0, r, {0, 0, r}, {v0, 0, 0})}, {0, 0, -kG}), mu, m);
+  w->step(100);
+  EXPECT_NEAR(w->bodyStates()[0].linear_velocity.x(), v0 - mu * kG * 0.1, 1e-10);
+}
+
+// Truth (a face landing flat): a box dropped flat from h0 lands on its four corners, a face
+// block, at v1 = √(2 g h0) and leaves at f e v1, so its first apex is (f e v1)² / (2 g); a ball
+// dropped beside it lands on one contact and keeps e: (e v1)² / (2 g). Both land at the instant
+// of touch: exact but for the step's sampling, ½ g h² = 4.9e-6 m (tolerance 1e-5 m, as
+// Johnson's test).
+TEST(ContactModel, AFaceLandingFlatBouncesWithTheFaceRestitutionRatio) {
+  const double h0 = 0.5, a = 0.1, r = 0.1, e = 0.6, f = 0.5;
+  sim::ContactModel m;
+  m.face_restitution_ratio = f;
+  sim::WorldConfig config;
+  config.contact_restitution = e;
+  config.ground_plane = sim::GroundPlane{};
+  config.contact_model = m;
+  auto w = sim::World::create(makeScene({block("b", 1.0, {2 * a, 2 * a, 2 * a}, {0, 0, a + h0}),
+                                         ball("s", 1.0, r, {3, 0, r + h0})},
+                                        {0, 0, -kG}),
+                              config);
+  ASSERT_TRUE(w.ok()) << w.error();
+  const double v1 = std::sqrt(2 * kG * h0);
+  double prev[2] = {0, 0}, apex[2] = {-1, -1};
+  for (int s = 0; s < 1500 && (apex[0] < 0 || apex[1] < 0); ++s) {
+    (*w)->step();
+    for (int k = 0; k < 2; ++k) {
+      const double vz = (*w)->bodyStates()[k].linear_velocity.z();
+      if (apex[k] < 0 && prev[k] > 0 && vz <= 0)
+        apex[k] = (*w)->bodyStates()[k].com.z() - (k == 0 ? a : r);
+      prev[k] = vz;
+    }
+  }
+  EXPECT_NEAR(apex[0], std::pow(f * e * v1, 2) / (2 * kG), 1e-5);
+  EXPECT_NEAR(apex[1], std::pow(e * v1, 2) / (2 * kG), 1e-5);
+}
+
 // Truth: the rules of doc/contact_model.md, each refused by name.
 TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
   const auto scene = makeScene({ball("s", 1.0, 0.1, {0, 0, 0.1})}, {0, 0, -kG});
@@ -288,6 +355,10 @@ TEST(ContactModel, UnphysicalSettingsAreRefusedByName) {
        "contact_model.tangential_restitution: must be in [0, 1]"},
       {[](sim::ContactModel& m) { m.face_friction_ratio = 0.0; },
        "contact_model.face_friction_ratio: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.impact_friction_ratio = -0.5; },
+       "contact_model.impact_friction_ratio: must be finite and > 0"},
+      {[](sim::ContactModel& m) { m.face_restitution_ratio = 1.5; },
+       "contact_model.face_restitution_ratio: must be in [0, 1]"},
       {[](sim::ContactModel& m) { m.normal_stiffness = -1.0; },
        "contact_model.normal_stiffness: must be finite and >= 0"},
       {[](sim::ContactModel& m) { m.restitution_reference_speed = 0.0; },

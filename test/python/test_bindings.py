@@ -196,3 +196,18 @@ def test_contact_model_options_reach_the_core():
         return w.poses()[0, 0]
     assert slide() == pytest.approx(1.0 / (2 * 0.2 * 9.81), abs=1e-5)
     assert slide(face_friction_ratio=1.25) == pytest.approx(1.0 / (2 * 0.25 * 9.81), abs=1e-5)
+
+
+def test_impact_friction_ratio_reaches_the_core():
+    # Truth: a ball (no spin) hitting at 2 m/s down and 1 m/s across with e = 0.5 slides through
+    # the impact (its slip needs 2/7 m v_t to stop, more than the friction μ_i (1 + e) m v_n):
+    # it leaves with v_x = v_t − μ_i (1 + e) v_n, μ_i = 0.1 · 0.5 (solver tolerance, 1e-9).
+    w = cs.world_from_urdf(BALL, gravity=[0, 0, 0], dt=1e-3, contact_mu=0.1,
+                           contact_restitution=0.5,
+                           ground_plane={'height': 0.0, 'mu': 0.1, 'restitution': 0.5},
+                           contact_model={'impact_friction_ratio': 0.5})
+    w.set_body_state('ball', [0, 0, 0.1105], [1, 0, 0, 0], [1.0, 0, -2.0], [0, 0, 0])
+    w.step(20)
+    v = w.velocities()[0]
+    assert v[2] == pytest.approx(1.0, abs=1e-9)
+    assert v[0] == pytest.approx(1.0 - 0.05 * 1.5 * 2.0, abs=1e-9)

@@ -85,13 +85,25 @@ struct ContactModel {
   /// and has the coefficient face_friction_ratio · μ, an edge or a corner, whose load sits on
   /// a small rounded patch, keeps μ (1: off).
   double face_friction_ratio = 1.0;
+  /// Friction during impacts (pressure-dependent friction again: an impact's peak contact
+  /// pressure is many times a resting one's, and a polymer's μ falls as the pressure rises): a
+  /// contact in an impact — approaching faster than the resting threshold and touching within
+  /// the step — has the coefficient impact_friction_ratio · μ in that step, and μ again once it
+  /// rests or slides on (1: off).
+  double impact_friction_ratio = 1.0;
+  /// Restitution of a face landing flat: a contact of a face block (three or four coplanar
+  /// corners between the same bodies) in an impact bounces with face_restitution_ratio · e, a
+  /// corner or an edge landing alone keeps e (1: off). A face meeting a surface flat pushes
+  /// the air between them out and rings as a plate; a corner does neither.
+  double face_restitution_ratio = 1.0;
 
   bool compliant() const { return normal_stiffness > 0.0; }
   bool anyOn() const {
     return static_friction_ratio != 1.0 || rolling_resistance != 0.0 ||
            torsional_resistance != 0.0 || restitution_speed_exponent != 0.0 ||
            box_edge_radius != 0.0 || compliant() || tangential_restitution != 0.0 ||
-           face_friction_ratio != 1.0;
+           face_friction_ratio != 1.0 || impact_friction_ratio != 1.0 ||
+           face_restitution_ratio != 1.0;
   }
 };
 

@@ -5,6 +5,7 @@ to measured runs with cross-validation, sweep parameters, or score one choice
     fit cv    DATA --urdf URDF --model NAME:RANGES [--model …] [--folds 2] [--out DIR]
     fit sweep DATA --urdf URDF --params RANGES --points 200 [--workers N]
     fit eval  DATA --urdf URDF --set mu=0.18,restitution=0.1,height=-0.0012
+    fit impacts CUBE_DATA [--sim PARAMS]   (each toss's first impact: fit impacts --help)
 
 DATA: a directory of CSV files, CSV files, or a rosbag of tf (with --frame). RANGES:
 name=low:high or name=value, comma-separated (model.PARAMETERS lists the names). Simulations
@@ -19,7 +20,7 @@ import time
 import numpy as np
 
 from . import fit as fitting
-from . import model, report, scoring, trajectories
+from . import impacts, model, report, scoring, trajectories
 from .runner import Runner
 
 
@@ -278,10 +279,18 @@ def parser():
     common(s)
     s.add_argument('--set', required=True, help='name=value,…')
     s.set_defaults(func=cmd_eval)
+
+    s = sub.add_parser('impacts', add_help=False,
+                       help="measure each cube toss's first impact against the simulation "
+                            '(sysid/impacts.py; fit impacts --help)')
+    s.set_defaults(func=lambda args: impacts.main([]))  # main() hands it its arguments
     return p
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ['impacts']:  # its own options, --help included
+        return impacts.main(argv[1:])
     args = parser().parse_args(argv)
     if getattr(args, 'steps_per_sample', 1) < 1:
         print('fit: --steps-per-sample: must be >= 1', file=sys.stderr)

@@ -6,6 +6,7 @@ Everything here is plain data and functions of it, so that a Dask worker can run
 """
 import hashlib
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,9 +36,16 @@ PARAMETERS = {
     'tangential_restitution': (0.0, 1.0, 0.0, 'model', 'slip reversal at impacts, in [0, 1]'),
     'face_friction_ratio': (0.0, math.inf, 1.0, 'model',
                             'friction of a face over that of an edge or corner, > 0'),
+    'impact_friction_ratio': (0.0, math.inf, 1.0, 'model',
+                              'friction in an impact over that of a resting or sliding one, > 0'),
+    'face_restitution_ratio': (0.0, 1.0, 1.0, 'model',
+                               'restitution of a face landing flat over that of a corner or edge'),
+    'inertia_scale': (0.0, math.inf, 1.0, 'body',
+                      "the body's moments of inertia over the URDF's, > 0"),
 }
-# Parameters whose lowest value is excluded (a speed of 0 divides).
-OPEN_BELOW = {'stribeck_speed', 'restitution_reference_speed', 'face_friction_ratio'}
+# Parameters whose lowest value is excluded (a speed of 0 divides, a body needs inertia).
+OPEN_BELOW = {'stribeck_speed', 'restitution_reference_speed', 'face_friction_ratio',
+              'impact_friction_ratio', 'inertia_scale'}
 
 
 class ParameterError(ValueError):
@@ -165,6 +173,21 @@ def prepare_runs(trajectories, steps_per_second, bounding_radius, surface_height
 
 
 _SCENES = {}
+_INERTIA = re.compile(r'(<inertia\b[^>]*>)', re.S)
+_MOMENT = re.compile(r'\b(i(?:xx|xy|xz|yy|yz|zz))\s*=\s*"([^"]*)"')
+
+
+def scale_inertia(urdf_text, scale):
+    """The URDF with every link's inertia tensor (ixx … izz of each <inertia>) times `scale`:
+    the fit's inertia_scale, for a body whose URDF has the mass right but not its distribution
+    (a hollow object given a solid one's moments; doc/fitting.md#the-first-impact-measured)."""
+    if scale == 1.0:
+        return urdf_text
+
+    def moments(m):
+        return _MOMENT.sub(lambda a: '%s="%r"' % (a.group(1), float(a.group(2)) * scale),
+                           m.group(1))
+    return _INERTIA.sub(moments, urdf_text)
 
 
 def scene_of(urdf_text):
@@ -183,8 +206,8 @@ def simulate_runs(urdf_text, body, runs, params, dt, size, integrator='auto', th
     failed, and with keep_poses the simulated poses. A run that cannot be simulated (refused
     state, non-finite result) is reported, not raised: the other runs keep their results."""
     import cga_rigid_sim
-    scene = scene_of(urdf_text)
     options = world_options(params, dt, integrator)
+    scene = scene_of(scale_inertia(urdf_text, float(params.get('inertia_scale', 1.0))))
     worlds, made, out = [], [], [None] * len(runs)
     for k, run in enumerate(runs):
         try:
