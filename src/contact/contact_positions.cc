@@ -4,6 +4,7 @@
 // islands. They move the poses, not the momenta; a tree's correction is capped per step.
 #include <algorithm>
 
+#include "contact/contact_resting_tree.h"
 #include "contact/contact_solver_internals.h"
 
 namespace cga_rigid_sim {
@@ -85,6 +86,7 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
       island_bias = std::max(island_bias, c.bias);
     });
     if (island_bias == 0.0) continue;
+    if (correctTreePositions(st, trees, rows, work, I)) continue;  // one tree alone
     for (int it = 0; it < st.position_iterations; ++it)
       if (detail::sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
         break;  // 0.1 % of the island's largest correction

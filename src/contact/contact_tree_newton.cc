@@ -1,0 +1,165 @@
+// Newton's method on a tree's contact cost (contact_tree_newton.h, doc/contacts.md#resting-trees).
+#include "contact/contact_tree_newton.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cga_rigid_sim {
+namespace sim {
+
+void TreeNewton::resize(int m, int s, int n) {
+  if (g.rows() < m || g.cols() != n) g.resize(std::max<Eigen::Index>(m, 2 * g.rows()), n);
+  if (r.size() < m) {
+    r.resize(g.rows());
+    D.resize(g.rows());
+    beta.resize(g.rows());
+  }
+  if (static_cast<int>(single.size()) < s) single.resize(s);
+  if (z_.size() < m + s) {
+    z_.resize(g.rows() + static_cast<Eigen::Index>(single.size()));
+    gd_.resize(z_.size());
+    re_.resize(z_.size());
+    active_.resize(z_.size());
+  }
+  if (S_.rows() != n || S_.cols() < m) S_.resize(n, g.rows());
+  if (H_.rows() != n) {
+    H_.resize(n, n);
+    grad_.resize(n);
+    delta_.resize(n);
+    work_.resize(n);
+    dnu_.resize(n);
+  }
+  rows = m;
+  n_single = s;
+  nv = n;
+}
+
+double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature) const {
+  double f = alpha * dMd + dMx, c = dMd;
+  const int m = rows + n_single;
+  for (int i = 0; i < m; ++i) {
+    const double zi = z_[i] + alpha * gd_[i];
+    if (zi < 0) {
+      const double Di = i < rows ? D[i] : single[i - rows].D;
+      f += Di * gd_[i] * zi;
+      c += Di * gd_[i] * gd_[i];
+    }
+  }
+  *curvature = c;
+  return f;
+}
+
+int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+                         double tolerance, int max_steps) {
+  const int m = rows, s = n_single, n = nv;
+  const auto G = g.topLeftCorner(m, n);
+  int step = 0;
+  while (step < max_steps) {
+    ++step;
+    // The residuals z_i = g_i ν − r_i, the gradient and, over the active rows (z_i < 0), the
+    // Hessian M + Σ D_i g_iᵀ g_i.
+    z_.head(m).noalias() = G * nu;
+    z_.head(m) -= re_.head(m);
+    for (int j = 0; j < s; ++j) z_[m + j] = single[j].sign * nu[single[j].index] - re_[m + j];
+    dnu_ = nu - nu_f;
+    grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
+    int na = 0;
+    for (int i = 0; i < m; ++i) {
+      active_[i] = z_[i] < 0;
+      if (!active_[i]) continue;
+      grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
+      S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+    }
+    H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
+    if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+    for (int j = 0; j < s; ++j) {
+      active_[m + j] = z_[m + j] < 0;
+      if (!active_[m + j]) continue;
+      const Single& q = single[j];
+      grad_[q.index] += q.D * z_[m + j] * q.sign;
+      H_(q.index, q.index) += q.D;
+    }
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);
+    if (llt.info() != Eigen::Success) return -1;
+    delta_ = -grad_;
+    llt.solveInPlace(delta_);
+    // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
+    // nondecreasing; its root by Newton steps kept inside a bracket.
+    gd_.head(m).noalias() = G * delta_;
+    for (int j = 0; j < s; ++j) gd_[m + j] = single[j].sign * delta_[single[j].index];
+    double full = 0;  // the full step's largest change of a row's velocity
+    for (int i = 0; i < m + s; ++i) full = std::max(full, std::abs(gd_[i]));
+    if (full <= tolerance) {  // converged to round-off: no line search needed
+      nu += delta_;
+      break;
+    }
+    work_.noalias() = M.selfadjointView<Eigen::Lower>() * delta_;
+    const double dMd = delta_.dot(work_), dMx = dnu_.dot(work_);
+    double c = 0;
+    const double f0 = slope(0.0, dMd, dMx, &c);
+    if (!(f0 < 0)) break;  // no descent left: the minimiser, to round-off
+    double lo = 0, hi = -1, alpha = 1;
+    for (int it = 0; it < 60; ++it) {
+      const double f = slope(alpha, dMd, dMx, &c);
+      if (std::abs(f) <= 1e-14 * std::abs(f0)) break;
+      (f < 0 ? lo : hi) = alpha;
+      double next = alpha - f / c;
+      if (hi >= 0 && !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (next == alpha) break;
+      alpha = next;
+    }
+    nu.noalias() += alpha * delta_;
+    // A full step that leaves the active rows as they were has reached the minimiser of the
+    // quadratic they make, which is the cost's (to round-off).
+    bool same = std::abs(alpha - 1.0) < 1e-9;
+    double moved = 0;
+    for (int i = 0; i < m + s; ++i) {
+      moved = std::max(moved, std::abs(alpha * gd_[i]));
+      same = same && ((z_[i] + alpha * gd_[i] < 0) == (active_[i] != 0));
+    }
+    if (same || moved <= tolerance) break;
+  }
+  return step;
+}
+
+int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+                      double tolerance, int max_steps, int max_rounds) {
+  const int m = rows, s = n_single;
+  const auto G = g.topLeftCorner(m, nv);
+  int steps = 0;
+  double last_missed = std::numeric_limits<double>::infinity();
+  for (int round = 0; round < max_rounds; ++round) {
+    // The targets shifted by the impulses so far: r_i + β_i / D_i.
+    for (int i = 0; i < m; ++i) re_[i] = r[i] + beta[i] / D[i];
+    for (int j = 0; j < s; ++j) re_[m + j] = single[j].r + single[j].beta / single[j].D;
+    const int taken = minimise(M, nu_f, nu, 1e-3 * tolerance, max_steps);
+    // A round that did not reach its minimiser gives impulses D_i times its error: refused.
+    if (taken < 0 || taken == max_steps) return -1;
+    steps += taken;
+    // The new impulses β_i = max(0, β_i + D_i (r_i − g_i ν)); their change over D_i is how far
+    // the round's minimiser missed the rows' targets.
+    z_.head(m).noalias() = G * nu;
+    double missed = 0;
+    for (int i = 0; i < m; ++i) {
+      const double b = D[i] * std::max(0.0, re_[i] - z_[i]);
+      missed = std::max(missed, std::abs(b - beta[i]) / D[i]);
+      beta[i] = b;
+    }
+    for (int j = 0; j < s; ++j) {
+      Single& q = single[j];
+      const double b = q.D * std::max(0.0, re_[m + j] - q.sign * nu[q.index]);
+      missed = std::max(missed, std::abs(b - q.beta) / q.D);
+      q.beta = b;
+    }
+    // Done, or no longer converging: rows that cannot all hold (a stop already passed and a
+    // contact that keeps the joint there) let their impulses grow by the same amount each
+    // round, however many rounds run.
+    if (missed <= tolerance || missed > 0.5 * last_missed) break;
+    last_missed = missed;
+  }
+  return steps;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
