@@ -64,26 +64,33 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     for (int j = 0; j < s; ++j) z_[m + j] = single[j].sign * nu[single[j].index] - re_[m + j];
     dnu_ = nu - nu_f;
     grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
-    int na = 0;
-    for (int i = 0; i < m; ++i) {
-      active_[i] = z_[i] < 0;
-      if (!active_[i]) continue;
-      grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
-      S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+    // The active rows; the Hessian depends on them alone (and on M): when they are those of
+    // the factor kept from the last step (of this solve), it is reused.
+    bool same_rows = factored_;
+    for (int i = 0; i < m + s; ++i) {
+      const char a = z_[i] < 0;
+      same_rows = same_rows && a == active_[i];
+      active_[i] = a;
     }
-    H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
-    if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
-    for (int j = 0; j < s; ++j) {
-      active_[m + j] = z_[m + j] < 0;
-      if (!active_[m + j]) continue;
-      const Single& q = single[j];
-      grad_[q.index] += q.D * z_[m + j] * q.sign;
-      H_(q.index, q.index) += q.D;
+    for (int i = 0; i < m; ++i)
+      if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
+    for (int j = 0; j < s; ++j)
+      if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+    if (!same_rows) {
+      int na = 0;
+      for (int i = 0; i < m; ++i)
+        if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+      H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
+      if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+      for (int j = 0; j < s; ++j)
+        if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);  // in place: H_'s lower triangle is L
+      factored_ = llt.info() == Eigen::Success;
+      if (!factored_) return -1;
     }
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);
-    if (llt.info() != Eigen::Success) return -1;
     delta_ = -grad_;
-    llt.solveInPlace(delta_);
+    H_.triangularView<Eigen::Lower>().solveInPlace(delta_);
+    H_.triangularView<Eigen::Lower>().adjoint().solveInPlace(delta_);
     // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
     // nondecreasing; its root by Newton steps kept inside a bracket.
     gd_.head(m).noalias() = G * delta_;
@@ -128,6 +135,7 @@ int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eig
   const int m = rows, s = n_single;
   const auto G = g.topLeftCorner(m, nv);
   int steps = 0;
+  factored_ = false;  // a new M and new rows
   double last_missed = std::numeric_limits<double>::infinity();
   for (int round = 0; round < max_rounds; ++round) {
     // The targets shifted by the impulses so far: r_i + β_i / D_i.

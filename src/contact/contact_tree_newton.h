@@ -62,7 +62,8 @@ struct TreeNewton {
   // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure.
   int minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
                double tolerance, int max_steps);
-  std::vector<char> active_;
+  std::vector<char> active_;  // the rows active in H_'s factor
+  bool factored_ = false;     // H_'s lower triangle holds the factor for active_
   // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it).
   double slope(double alpha, double dMd, double dMx, double* curvature) const;
 };
