@@ -7,6 +7,13 @@
 
 namespace cga_rigid_sim {
 namespace sim {
+namespace {
+
+// Trees with at most this many coordinates build the Hessian row by row over each row's
+// nonzeros (a stack array of their indices); larger ones by one dense rank update.
+constexpr int kSparseMax = 256;
+
+}  // namespace
 
 void TreeNewton::resize(int m, int s, int n) {
   if (g.rows() < m || g.cols() != n) g.resize(std::max<Eigen::Index>(m, 2 * g.rows()), n);
@@ -77,11 +84,27 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     for (int j = 0; j < s; ++j)
       if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
     if (!same_rows) {
-      int na = 0;
-      for (int i = 0; i < m; ++i)
-        if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
       H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
-      if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+      if (n <= kSparseMax) {
+        // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
+        // the joints between its link and the base (a foot: the base's six and its leg's).
+        int nz[kSparseMax];
+        for (int i = 0; i < m; ++i) {
+          if (!active_[i]) continue;
+          int k = 0;
+          for (int c = 0; c < n; ++c)
+            if (G(i, c) != 0.0) nz[k++] = c;
+          for (int a = 0; a < k; ++a) {
+            const double ga = D[i] * G(i, nz[a]);
+            for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
+          }
+        }
+      } else {
+        int na = 0;
+        for (int i = 0; i < m; ++i)
+          if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+        if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+      }
       for (int j = 0; j < s; ++j)
         if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
       Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);  // in place: H_'s lower triangle is L
