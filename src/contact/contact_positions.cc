@@ -4,10 +4,19 @@
 // islands. They move the poses, not the momenta; a tree's correction is capped per step.
 #include <algorithm>
 
+#include "contact/contact_resting_tree.h"
 #include "contact/contact_solver_internals.h"
 
 namespace cga_rigid_sim {
 namespace sim {
+namespace {
+// An overlap past the slop by more than this (m) has a one-tree island's correction solved
+// exactly: a foot jammed between the floor and its own leg is millimetres deep, a resting one
+// within a few micrometres of the slop, where a correction solved exactly a step cost several
+// Newton steps for what the sweeps do as well (doc/decisions.md#a-resting-robots-island).
+constexpr double kExactCorrectionExcess = 1e-4;
+}  // namespace
+
 namespace detail {
 namespace {
 
@@ -85,6 +94,11 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
       island_bias = std::max(island_bias, c.bias);
     });
     if (island_bias == 0.0) continue;
+    // One tree alone with an overlap past the slop by more than kExactCorrectionExcess: solved
+    // exactly (contact_resting_tree.h); smaller ones are swept, which is cheaper and enough.
+    if (island_bias > st.correction * kExactCorrectionExcess / st.h &&
+        correctTreePositions(st, trees, rows, work, I))
+      continue;
     for (int it = 0; it < st.position_iterations; ++it)
       if (detail::sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
         break;  // 0.1 % of the island's largest correction

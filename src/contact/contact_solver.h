@@ -73,6 +73,9 @@ struct SolverTree {
     double q = 0.0;                       ///< the joint's position at the step's start
     double lower = 0.0, upper = 0.0;      ///< its limits (±∞ where it has none)
     double y_lower = 0.0, y_upper = 0.0;  ///< accumulated impulses (velocity solve)
+    /// The last step's y_lower, y_upper: the warm start of a resting tree's solve
+    /// (contact_resting_tree.h).
+    double y_lower_last = 0.0, y_upper_last = 0.0;
     double p_lower = 0.0, p_upper = 0.0;  ///< accumulated pseudo-impulses (position correction)
     double a = 0.0;                       ///< (M⁻¹)_kk; 0 until the column is made
     Eigen::VectorXd column;               ///< M⁻¹ e_k, made when the row first acts
@@ -159,6 +162,13 @@ struct SolverSettings {
   /// such a solve (a sweep is a projection that never adds energy: a stopped solve leaves
   /// velocities partly corrected, never amplified). Why 30: doc/decisions.md.
   int max_tree_iterations = 30;
+  /// An island of one tree whose contact points all move slower than this before the
+  /// impulses (m/s) is solved by Newton's method on the tree's coordinates
+  /// (contact_resting_tree.h), not by sweeps: a resting robot's contacts and stops share its
+  /// load through M(q), where Gauss–Seidel leaves it creeping. Its friction pyramid lets a
+  /// contact sliding at s lift at up to μ s, so it is kept to what rests. Why 2 cm/s: twice
+  /// the kick g h at 1 ms, doc/decisions.md. 0 turns it off.
+  double resting_tree_speed = 0.02;
   int position_iterations = 10;  ///< sweeps of the position correction at most
   /// The position correction moves a tree's coordinate (a joint, rad or m; the floating base's
   /// six, rad and m/λ) by at most this much in one step. It removes a fifth of an overlap per

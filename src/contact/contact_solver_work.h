@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/math/union_find.h"
+#include "contact/contact_tree_newton.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -75,6 +76,14 @@ struct SolverWork {
     Eigen::LDLT<Matrix> ldlt;
   };
   Resting resting;
+  /// The Newton solve of a resting tree's island (contact_resting_tree.h): its workspace, the
+  /// island's rows in order, the warm-started ν (restored when the solve fails).
+  struct RestingTree {
+    TreeNewton newton;
+    std::vector<int> contacts;
+    Eigen::VectorXd nu_warm, dnu;
+  };
+  RestingTree resting_tree;
 };
 
 }  // namespace sim

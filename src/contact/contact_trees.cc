@@ -165,6 +165,10 @@ void makeLimitRows(const dynamics::ArticulatedBody& tree, const TreeData& td, So
   for (const dynamics::JointCoordinate& c : tree.coordinates()) {
     if (!c.hasLimits()) continue;
     SolverTree::LimitRow& r = out.limits[rows++];
+    // The last step's impulses, kept as a warm start when the row is the same joint's.
+    const bool same = r.index == tree.reducedIndex(c.joint);
+    r.y_lower_last = same ? r.y_lower : 0.0;
+    r.y_upper_last = same ? r.y_upper : 0.0;
     r.index = tree.reducedIndex(c.joint);
     r.q = td.state.q[c.joint];
     r.lower = c.lower;

@@ -6,6 +6,7 @@
 
 #include "contact/contact_patch.h"
 #include "contact/contact_resting.h"
+#include "contact/contact_resting_tree.h"
 #include "contact/contact_solver_internals.h"
 
 namespace cga_rigid_sim {
@@ -134,6 +135,11 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     // A resting island of faces solved directly; the sweeps then only confirm it.
     if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I))
       warmStart(trees, rows, work, I);
+    // A resting tree's island by Newton's method, from the warm start: exact, no sweeps.
+    if (bounce && I.trees > 0) {
+      const int steps = solveRestingTree(st, trees, rows, work, I);
+      if (steps > 0) return steps;
+    }
     int it = 0;
     for (; it < max_iterations; ++it) {
       if (sweepIsland(st, trees, rows, work, I, patch) < tolerance) {

@@ -1,0 +1,238 @@
+// A resting tree's island solved by Newton's method (contact_resting_tree.h,
+// doc/contacts.md#resting-trees).
+#include "contact/contact_resting_tree.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "contact/contact_patch.h"
+#include "contact/contact_solver_internals.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+// Each row's compliance 1/D_i as a fraction of its own Delassus entry g_i M⁻¹ g_iᵀ. The
+// augmented Lagrangian rounds remove the compliance's error, so ε sets their speed, not the
+// answer: each round cuts a row's miss by roughly ε times its coupling to the others, while the
+// Hessian's condition in the metric of M stays near 1/ε. Measured on Atlas lying
+// (doc/decisions.md#a-resting-robots-island): 1e-5 and 1e-7 take more steps than 1e-6.
+constexpr double kCompliance = 1e-6;
+// Newton steps per round and rounds at most, and the rounds' stop: no row's velocity off its
+// target by more, m/s (1e-2 of the sleep speed kSleepSpeed, contact_sleep.h).
+constexpr int kMaxNewtonSteps = 30;
+constexpr int kMaxRounds = 10;
+constexpr double kNewtonTolerance = 1e-8;
+
+// The contact's relative point velocity per unit ν of tree t: J_a (side a on t) or −J_b.
+const Eigen::Matrix<double, 3, Eigen::Dynamic>& sideJacobian(const ContactRow& c, int t,
+                                                             double* sign) {
+  *sign = c.ta == t ? 1.0 : -1.0;
+  return c.ta == t ? c.ja : c.jb;
+}
+
+// Whether island I is one for the Newton solve: one tree alone, every contact on it at rest.
+bool eligible(const SolverSettings& st, const std::vector<SolverTree>& trees,
+              std::vector<ContactRow>& rows, const SolverWork& work, const SolverWork::Island& I) {
+  if (I.trees != 1 || I.bodies != 0 || patchResistance(st.model) || st.model.compliant())
+    return false;
+  const int t = work.island_tree[I.first_tree];
+  bool ok = true;
+  detail::forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+    if (!ok) return;
+    const bool on_a = c.ta == t, on_b = c.tb == t;
+    if (on_a == on_b || c.compliant || c.impact != 0.0 || !c.target_t.isZero(0.0)) {
+      ok = false;
+      return;
+    }
+    ok = detail::treeVelocity<&SolverTree::nu_start>(trees, c).norm() <= st.resting_tree_speed;
+  });
+  return ok;
+}
+
+// ν = ν_f + M⁻¹ Gᵀ β: the tree's velocity under the rows' impulses β (dnu: scratch).
+void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu) {
+  dnu.noalias() = N.g.topRows(N.rows).transpose() * N.beta.head(N.rows);
+  for (int q = 0; q < N.n_single; ++q)
+    dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
+  T.llt.solveInPlace(dnu);
+  T.nu = T.nu_start + dnu;
+}
+
+}  // namespace
+
+int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
+                     std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I) {
+  if (!eligible(st, trees, rows, work, I)) return -1;
+  const int t = work.island_tree[I.first_tree];
+  SolverTree& T = trees[t];
+  const int nv = static_cast<int>(T.nu.size());
+  SolverWork::RestingTree& R = work.resting_tree;
+  R.contacts.clear();
+  int m = 0;
+  detail::forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+    R.contacts.push_back(static_cast<int>(k));
+    m += c.mu > 0 ? 4 : 1;
+  });
+  int s = 0;
+  for (const SolverTree::LimitRow& r : T.limits)
+    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  TreeNewton& N = R.newton;
+  N.resize(m, s, nv);
+  // The contacts' rows: the normal, or the pyramid's four edges d = n ± μ t, each on d·u ≥
+  // target, with D = 1 / (ε dᵀ K d), K = J M⁻¹ Jᵀ the point's response.
+  int i = 0;
+  for (const int k : R.contacts) {
+    const ContactRow& c = rows[k];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    const Eigen::Matrix<double, Eigen::Dynamic, 3>& W = c.ta == t ? c.wa : c.wb;
+    const Eigen::Matrix3d K = J * W;
+    const auto addRow = [&](const Eigen::Vector3d& d) {
+      N.g.row(i).noalias() = sign * d.transpose() * J;
+      N.r[i] = c.target;
+      N.D[i] = 1.0 / (kCompliance * std::max(d.dot(K * d), 1e-300));
+      ++i;
+    };
+    // The warm start's impulses split onto the rows: λ_n half on each pair of edges, λ_t by
+    // their difference (clamped into the pyramid).
+    const double ln = std::max(0.0, c.lambda_n);
+    if (c.mu > 0) {
+      for (int e = 0; e < 2; ++e) {
+        const double d = std::clamp(c.lambda_t[e] / c.mu, -0.5 * ln, 0.5 * ln);
+        N.beta[i + 2 * e] = 0.5 * (0.5 * ln + d);
+        N.beta[i + 2 * e + 1] = 0.5 * (0.5 * ln - d);
+      }
+    } else {
+      N.beta[i] = ln;
+    }
+    if (c.mu > 0) {
+      addRow(c.n + c.mu * c.t1);
+      addRow(c.n - c.mu * c.t1);
+      addRow(c.n + c.mu * c.t2);
+      addRow(c.n - c.mu * c.t2);
+    } else {
+      addRow(c.n);
+    }
+  }
+  // The stops: lower ≤ q + h ν_k ≤ upper, D = M_kk / ε (1/M_kk ≤ (M⁻¹)_kk: at least as stiff).
+  // A joint already past a stop is held there (ν_k ≥ 0 away from it), as a contact's overlap
+  // is: the position correction brings it back. So ν = 0 meets every row, the rows can all
+  // hold, and the solve never raises the energy (a projection onto a set holding 0).
+  int j = 0;
+  for (const SolverTree::LimitRow& r : T.limits) {
+    const double D = T.M(r.index, r.index) / kCompliance;
+    if (std::isfinite(r.lower))
+      N.single[j++] = {r.index, 1.0, std::min(0.0, (r.lower - r.q) / st.h), D,
+                       std::max(0.0, r.y_lower_last)};
+    if (std::isfinite(r.upper))
+      N.single[j++] = {r.index, -1.0, std::min(0.0, (r.q - r.upper) / st.h), D,
+                       std::max(0.0, -r.y_upper_last)};
+  }
+  // The start: ν from the warm start's impulses, the stops' included (the sweeps' warm start
+  // leaves them out), so that a tree at rest starts at its solution.
+  R.nu_warm = T.nu;
+  velocityOfImpulses(T, N, R.dnu);
+  int steps = N.solve(T.M, T.nu_start, T.nu, kNewtonTolerance, kMaxNewtonSteps, kMaxRounds);
+  // ν from the impulses, M (ν − ν_f) = Gᵀ β exactly: the tree's momentum changes by its
+  // contacts' impulses to round-off (the step's guard checks it), at the price of the
+  // minimiser's residual, round-off too.
+  if (steps >= 0) velocityOfImpulses(T, N, R.dnu);
+  // A solve that reached its minimiser never raises the kinetic energy (every target ≤ 0: a
+  // projection in the metric of M onto a convex set holding ν = 0); one that did not is
+  // refused, and the sweeps take the island.
+  if (steps >= 0) {
+    R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu_start;
+    const double before = T.nu_start.dot(R.dnu);
+    R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu;
+    const double after = T.nu.dot(R.dnu);
+    if (after > before * (1 + 1e-9) + 1e-300) steps = -1;
+  }
+  if (steps < 0) {
+    T.nu = R.nu_warm;
+    return -1;
+  }
+  // The impulses: a contact's normal is the sum of its edges', its friction μ times their
+  // differences along t1 and t2; a stop's is its row's, signed.
+  i = 0;
+  for (const int k : R.contacts) {
+    ContactRow& c = rows[k];
+    if (c.mu > 0) {
+      const double* b = N.beta.data() + i;
+      c.lambda_n = b[0] + b[1] + b[2] + b[3];
+      c.lambda_t = {c.mu * (b[0] - b[1]), c.mu * (b[2] - b[3])};
+      i += 4;
+    } else {
+      c.lambda_n = N.beta[i++];
+      c.lambda_t.setZero();
+    }
+  }
+  j = 0;
+  for (SolverTree::LimitRow& r : T.limits) {
+    r.y_lower = std::isfinite(r.lower) ? N.single[j++].beta : 0.0;
+    r.y_upper = std::isfinite(r.upper) ? -N.single[j++].beta : 0.0;
+  }
+  return steps;
+}
+
+bool correctTreePositions(const SolverSettings& st, std::vector<SolverTree>& trees,
+                          std::vector<ContactRow>& rows, SolverWork& work,
+                          const SolverWork::Island& I) {
+  if (I.trees != 1 || I.bodies != 0 || st.model.compliant()) return false;
+  const int t = work.island_tree[I.first_tree];
+  SolverTree& T = trees[t];
+  const int nv = static_cast<int>(T.nu.size());
+  SolverWork::RestingTree& R = work.resting_tree;
+  R.contacts.clear();
+  bool ok = true;
+  detail::forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+    ok = ok && (c.ta == t) != (c.tb == t) && !c.compliant;
+    R.contacts.push_back(static_cast<int>(k));
+  });
+  if (!ok) return false;
+  const int m = static_cast<int>(R.contacts.size());
+  int s = 0;
+  for (const SolverTree::LimitRow& r : T.limits)
+    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  TreeNewton& N = R.newton;
+  N.resize(m, s, nv);
+  // Each contact's normal: its bias where it overlaps beyond the slop, else not pushed in.
+  for (int i = 0; i < m; ++i) {
+    const ContactRow& c = rows[R.contacts[i]];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    N.g.row(i).noalias() = sign * c.n.transpose() * J;
+    N.r[i] = std::max(0.0, c.bias);
+    N.D[i] = 1.0 / (kCompliance * std::max(c.k_nn, 1e-300));
+    N.beta[i] = 0.0;
+  }
+  // The stops: q + h (ν_k + pν_k) within them.
+  int j = 0;
+  for (const SolverTree::LimitRow& r : T.limits) {
+    const double D = T.M(r.index, r.index) / kCompliance;
+    const double v = T.nu[r.index];
+    if (std::isfinite(r.lower)) N.single[j++] = {r.index, 1.0, (r.lower - r.q) / st.h - v, D, 0.0};
+    if (std::isfinite(r.upper)) N.single[j++] = {r.index, -1.0, v - (r.upper - r.q) / st.h, D, 0.0};
+  }
+  R.nu_warm.setZero(nv);
+  T.pnu.setZero(nv);
+  const int steps = N.solve(T.M, R.nu_warm, T.pnu, kNewtonTolerance, kMaxNewtonSteps, kMaxRounds);
+  if (steps < 0) {
+    T.pnu.setZero(nv);
+    return false;
+  }
+  R.dnu.noalias() = N.g.topRows(m).transpose() * N.beta.head(m);
+  for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
+  T.llt.solveInPlace(R.dnu);
+  T.pnu = R.dnu;
+  for (int i = 0; i < m; ++i) rows[R.contacts[i]].lambda_p = N.beta[i];
+  j = 0;
+  for (SolverTree::LimitRow& r : T.limits) {
+    r.p_lower = std::isfinite(r.lower) ? N.single[j++].beta : 0.0;
+    r.p_upper = std::isfinite(r.upper) ? -N.single[j++].beta : 0.0;
+  }
+  return true;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

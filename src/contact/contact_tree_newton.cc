@@ -1,0 +1,196 @@
+// Newton's method on a tree's contact cost (contact_tree_newton.h, doc/contacts.md#resting-trees).
+#include "contact/contact_tree_newton.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace {
+
+// Trees with at most this many coordinates build the Hessian row by row over each row's
+// nonzeros (a stack array of their indices); larger ones by one dense rank update.
+constexpr int kSparseMax = 256;
+
+}  // namespace
+
+void TreeNewton::resize(int m, int s, int n) {
+  if (g.rows() < m || g.cols() != n) g.resize(std::max<Eigen::Index>(m, 2 * g.rows()), n);
+  if (r.size() < m) {
+    r.resize(g.rows());
+    D.resize(g.rows());
+    beta.resize(g.rows());
+  }
+  if (static_cast<int>(single.size()) < s) single.resize(s);
+  if (z_.size() < m + s) {
+    z_.resize(g.rows() + static_cast<Eigen::Index>(single.size()));
+    gd_.resize(z_.size());
+    re_.resize(z_.size());
+    active_.resize(z_.size());
+  }
+  if (S_.rows() != n || S_.cols() < m) S_.resize(n, g.rows());
+  if (H_.rows() != n) {
+    H_.resize(n, n);
+    grad_.resize(n);
+    delta_.resize(n);
+    work_.resize(n);
+    dnu_.resize(n);
+  }
+  rows = m;
+  n_single = s;
+  nv = n;
+}
+
+double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature) const {
+  double f = alpha * dMd + dMx, c = dMd;
+  const int m = rows + n_single;
+  for (int i = 0; i < m; ++i) {
+    const double zi = z_[i] + alpha * gd_[i];
+    if (zi < 0) {
+      const double Di = i < rows ? D[i] : single[i - rows].D;
+      f += Di * gd_[i] * zi;
+      c += Di * gd_[i] * gd_[i];
+    }
+  }
+  *curvature = c;
+  return f;
+}
+
+int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+                         double tolerance, int max_steps) {
+  const int m = rows, s = n_single, n = nv;
+  const auto G = g.topLeftCorner(m, n);
+  int step = 0;
+  while (step < max_steps) {
+    ++step;
+    // The residuals z_i = g_i ν − r_i, the gradient and, over the active rows (z_i < 0), the
+    // Hessian M + Σ D_i g_iᵀ g_i.
+    z_.head(m).noalias() = G * nu;
+    z_.head(m) -= re_.head(m);
+    for (int j = 0; j < s; ++j) z_[m + j] = single[j].sign * nu[single[j].index] - re_[m + j];
+    dnu_ = nu - nu_f;
+    grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
+    // The active rows; the Hessian depends on them alone (and on M): when they are those of
+    // the factor kept from the last step (of this solve), it is reused.
+    bool same_rows = factored_;
+    for (int i = 0; i < m + s; ++i) {
+      const char a = z_[i] < 0;
+      same_rows = same_rows && a == active_[i];
+      active_[i] = a;
+    }
+    for (int i = 0; i < m; ++i)
+      if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
+    for (int j = 0; j < s; ++j)
+      if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+    if (!same_rows) {
+      H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
+      if (n <= kSparseMax) {
+        // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
+        // the joints between its link and the base (a foot: the base's six and its leg's).
+        int nz[kSparseMax];
+        for (int i = 0; i < m; ++i) {
+          if (!active_[i]) continue;
+          int k = 0;
+          for (int c = 0; c < n; ++c)
+            if (G(i, c) != 0.0) nz[k++] = c;
+          for (int a = 0; a < k; ++a) {
+            const double ga = D[i] * G(i, nz[a]);
+            for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
+          }
+        }
+      } else {
+        int na = 0;
+        for (int i = 0; i < m; ++i)
+          if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+        if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+      }
+      for (int j = 0; j < s; ++j)
+        if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);  // in place: H_'s lower triangle is L
+      factored_ = llt.info() == Eigen::Success;
+      if (!factored_) return -1;
+    }
+    delta_ = -grad_;
+    H_.triangularView<Eigen::Lower>().solveInPlace(delta_);
+    H_.triangularView<Eigen::Lower>().adjoint().solveInPlace(delta_);
+    // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
+    // nondecreasing; its root by Newton steps kept inside a bracket.
+    gd_.head(m).noalias() = G * delta_;
+    for (int j = 0; j < s; ++j) gd_[m + j] = single[j].sign * delta_[single[j].index];
+    double full = 0;  // the full step's largest change of a row's velocity
+    for (int i = 0; i < m + s; ++i) full = std::max(full, std::abs(gd_[i]));
+    if (full <= tolerance) {  // converged to round-off: no line search needed
+      nu += delta_;
+      break;
+    }
+    work_.noalias() = M.selfadjointView<Eigen::Lower>() * delta_;
+    const double dMd = delta_.dot(work_), dMx = dnu_.dot(work_);
+    double c = 0;
+    const double f0 = slope(0.0, dMd, dMx, &c);
+    if (!(f0 < 0)) break;  // no descent left: the minimiser, to round-off
+    double lo = 0, hi = -1, alpha = 1;
+    for (int it = 0; it < 60; ++it) {
+      const double f = slope(alpha, dMd, dMx, &c);
+      if (std::abs(f) <= 1e-14 * std::abs(f0)) break;
+      (f < 0 ? lo : hi) = alpha;
+      double next = alpha - f / c;
+      if (hi >= 0 && !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (next == alpha) break;
+      alpha = next;
+    }
+    nu.noalias() += alpha * delta_;
+    // A full step that leaves the active rows as they were has reached the minimiser of the
+    // quadratic they make, which is the cost's (to round-off).
+    bool same = std::abs(alpha - 1.0) < 1e-9;
+    double moved = 0;
+    for (int i = 0; i < m + s; ++i) {
+      moved = std::max(moved, std::abs(alpha * gd_[i]));
+      same = same && ((z_[i] + alpha * gd_[i] < 0) == (active_[i] != 0));
+    }
+    if (same || moved <= tolerance) break;
+  }
+  return step;
+}
+
+int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+                      double tolerance, int max_steps, int max_rounds) {
+  const int m = rows, s = n_single;
+  const auto G = g.topLeftCorner(m, nv);
+  int steps = 0;
+  factored_ = false;  // a new M and new rows
+  double last_missed = std::numeric_limits<double>::infinity();
+  for (int round = 0; round < max_rounds; ++round) {
+    // The targets shifted by the impulses so far: r_i + β_i / D_i.
+    for (int i = 0; i < m; ++i) re_[i] = r[i] + beta[i] / D[i];
+    for (int j = 0; j < s; ++j) re_[m + j] = single[j].r + single[j].beta / single[j].D;
+    const int taken = minimise(M, nu_f, nu, 1e-3 * tolerance, max_steps);
+    // A round that did not reach its minimiser gives impulses D_i times its error: refused.
+    if (taken < 0 || taken == max_steps) return -1;
+    steps += taken;
+    // The new impulses β_i = max(0, β_i + D_i (r_i − g_i ν)); their change over D_i is how far
+    // the round's minimiser missed the rows' targets.
+    z_.head(m).noalias() = G * nu;
+    double missed = 0;
+    for (int i = 0; i < m; ++i) {
+      const double b = D[i] * std::max(0.0, re_[i] - z_[i]);
+      missed = std::max(missed, std::abs(b - beta[i]) / D[i]);
+      beta[i] = b;
+    }
+    for (int j = 0; j < s; ++j) {
+      Single& q = single[j];
+      const double b = q.D * std::max(0.0, re_[m + j] - q.sign * nu[q.index]);
+      missed = std::max(missed, std::abs(b - q.beta) / q.D);
+      q.beta = b;
+    }
+    // Done, or no longer converging: rows that cannot all hold (a stop already passed and a
+    // contact that keeps the joint there) let their impulses grow by the same amount each
+    // round, however many rounds run.
+    if (missed <= tolerance || missed > 0.5 * last_missed) break;
+    last_missed = missed;
+  }
+  return steps;
+}
+
+}  // namespace sim
+}  // namespace cga_rigid_sim

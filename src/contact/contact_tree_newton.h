@@ -1,0 +1,72 @@
+// A tree's contact problem solved in its own coordinates by Newton's method
+// (doc/contacts.md#resting-trees): the velocity ν that minimises
+//
+//   ½ (ν − ν_f)ᵀ M (ν − ν_f) + ½ Σ_i D_i min(0, g_i ν − r_i)²
+//
+// — the step without the constraints' impulses, ν_f, moved as little as the mass matrix allows
+// while every row i (a contact's normal or an edge of its friction pyramid, or a joint's stop)
+// keeps g_i ν ≥ r_i, each held by a stiff penalty D_i. Its minimiser is the exact solution of
+// the constraints with a compliance 1/D_i (a row's impulse is β_i = D_i max(0, r_i − g_i ν) and
+// M (ν − ν_f) = Σ_i β_i g_iᵀ), so a row is kept to within β_i / D_i of its target. The cost is
+// strictly convex in ν (M > 0) and piecewise quadratic: Newton steps with an exact line search
+// reach its minimiser in a few steps, and exactly once the set of active rows is right. Unlike
+// Gauss–Seidel over the impulses it does not slow down where the rows are many and dependent (a
+// lying robot's contacts and stops share its ~30 coordinates): redundancy makes the impulses
+// ambiguous, never ν. MuJoCo's Newton solver (Todorov 2014, "Convex and analytically-invertible
+// dynamics with contacts and constraints") works on the same cost, there with soft rows.
+//
+// Storage: the workspace grows to the largest problem seen and is reused (in-place Cholesky, no
+// temporaries), so a solve allocates only when the problem grows.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace cga_rigid_sim {
+namespace sim {
+
+struct TreeNewton {
+  /// The rows, set by the caller with resize() then the fields below: g (m × nv, row i the
+  /// row's Jacobian on ν), r, D. Rows on one coordinate alone (the joints' stops: g = ±e_k)
+  /// are kept sparse in `single`.
+  struct Single {
+    int index = 0;    ///< the coordinate
+    double sign = 1;  ///< +1: ν_k ≥ r; −1: −ν_k ≥ r
+    double r = 0, D = 0;
+    double beta = 0;  ///< its impulse, after solve()
+  };
+  Eigen::MatrixXd g;
+  Eigen::VectorXd r, D, beta;  ///< beta: the rows' impulses after solve()
+  std::vector<Single> single;
+  int rows = 0, nv = 0, n_single = 0;
+
+  /// Sizes the workspace for m dense and s single rows on nv coordinates (growing only).
+  void resize(int m, int s, int nv);
+  /// Solves the rows with the augmented Lagrangian method (Hestenes, Powell): round after
+  /// round minimises the cost with each row's target shifted by its impulse so far,
+  /// r_i + β_i / D_i, and takes β_i = max(0, β_i + D_i (r_i − g_i ν)) as its new impulse;
+  /// the impulses converge to those of the rigid rows (D → ∞) with a moderate D, which keeps
+  /// the Newton steps well conditioned. β (and Single::beta) hold the warm start on entry (the
+  /// last step's impulses: a resting tree's first round is then its last) and the impulses on
+  /// return, ν the start and the solution. Stops when a round moves no row's velocity by more
+  /// than `tolerance` off its target, or when the rounds stop converging; returns the Newton
+  /// steps taken, or −1 when a Hessian was not positive definite or a round took max_steps
+  /// without reaching its minimiser (ν is then left part way: the caller restores it).
+  int solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+            double tolerance, int max_steps, int max_rounds);
+
+ private:
+  Eigen::MatrixXd H_, S_;
+  Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_;
+  // One round: Newton steps on the cost with the targets re_ until a step moves no row's
+  // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure.
+  int minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
+               double tolerance, int max_steps);
+  std::vector<char> active_;  // the rows active in H_'s factor
+  bool factored_ = false;     // H_'s lower triangle holds the factor for active_
+  // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it).
+  double slope(double alpha, double dMd, double dMx, double* curvature) const;
+};
+
+}  // namespace sim
+}  // namespace cga_rigid_sim
