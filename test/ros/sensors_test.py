@@ -91,11 +91,23 @@ class Sensors(unittest.TestCase):
         cls.noisy_a = Listener('/a/noisy_imu', Imu)
         cls.truth = Listener('/a/ground_truth', Odometry)
         cls.bumper = Listener('/a/bumper', ContactArray)
-        cls.a.step(300)
+        # Stepped in bursts of 50 that the every-step topics are read out of before the next:
+        # the node's publishers queue 100 messages, and a burst longer than that outruns a
+        # subscriber on a loaded machine (ROS drops the oldest).
+        cls.burst(cls.a, 300, cls.noisy_a)
         cls.b.step(300)
         cls.noisy_b = Listener('/b/noisy_imu', Imu)
-        cls.end = cls.a.step(100)
-        cls.b.step(100)
+        cls.end = cls.burst(cls.a, 100, cls.noisy_a)
+        cls.burst(cls.b, 100, cls.noisy_b)
+
+    @staticmethod
+    def burst(sim, steps, listener, size=50):
+        """Steps `sim` by `steps` in bursts of `size`, each read out of `listener` (a topic
+        published every step) before the next; returns the last stamp."""
+        for _ in range(steps // size):
+            end = sim.step(size)
+            listener.at(end)
+        return end
 
     def test_rates_on_the_simulation_clock(self):
         stamp = lambda s: rospy.Time(0, s * NS)  # noqa: E731
