@@ -81,6 +81,27 @@ class Listener(object):
             return sorted(self.by_stamp)
 
 
+def drive_forward(cmd, speed=0.5):
+    """A zero command, then `speed` m/s forward, on a drive's cmd_vel publisher; the paused node
+    services its callbacks meanwhile, so the command is in before the next ~step."""
+    cmd.publish(Twist())
+    forward = Twist()
+    forward.linear.x = speed
+    cmd.publish(forward)
+    rospy.sleep(0.5)
+
+
+def drive_topics(prefix):
+    """(ground truth, odometry, IMU) listeners and the cmd_vel publisher of a rover whose topics
+    start with `prefix`."""
+    truth = Listener(prefix + 'ground_truth/odom', Odometry)
+    odom = Listener(prefix + 'odom', Odometry)
+    imu = Listener(prefix + 'imu', Imu)
+    cmd = rospy.Publisher(prefix + 'cmd_vel', Twist, queue_size=10)
+    wait_until(lambda: cmd.get_num_connections() > 0, what=prefix + 'cmd_vel connected')
+    return truth, odom, imu, cmd
+
+
 class Sensors(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -166,20 +187,12 @@ class Sensors(unittest.TestCase):
 
     def test_cmd_vel_drives_the_rover_and_odom_follows(self):
         sim = Simulator('/rover/simulator')
-        truth = Listener('/ground_truth/odom', Odometry)
-        odom = Listener('/odom', Odometry)
-        imu = Listener('/imu', Imu)
-        cmd = rospy.Publisher('/cmd_vel', Twist, queue_size=10)
-        wait_until(lambda: cmd.get_num_connections() > 0, what='/cmd_vel connected')
+        truth, odom, imu, cmd = drive_topics('/')
         t0 = sim.step(500)
         x0 = truth.at(t0).pose.pose.position.x
         rested = sim.step(500)
         self.assertLess(abs(truth.at(rested).pose.pose.position.x - x0), 1e-3)
-        cmd.publish(Twist())  # a zero command first: the same hold
-        forward = Twist()
-        forward.linear.x = 0.5
-        cmd.publish(forward)
-        rospy.sleep(0.5)  # the paused node services its callbacks: the command is in
+        drive_forward(cmd)  # (its zero command first: the same hold)
         end = sim.step(1500)
         t = truth.at(end)
         self.assertAlmostEqual(t.twist.twist.linear.x, 0.5, delta=0.01)
@@ -206,7 +219,6 @@ class Sensors(unittest.TestCase):
                           (t.z, 0.0)]:
             self.assertAlmostEqual(got, want, delta=1e-9)
 
-
     def test_a_spawned_rover_brings_its_sensors_and_drive(self):
         sim = Simulator('/spawn/simulator')
         buffer = tf2_ros.Buffer()
@@ -218,16 +230,9 @@ class Sensors(unittest.TestCase):
         pose.position.y, pose.position.z, pose.orientation.w = 2.0, 0.16, 1.0
         res = sim.spawn('rover1', urdf, pose, Twist(), 'r1')
         self.assertTrue(res.success, res.message)
-        truth = Listener('/spawn/r1/ground_truth/odom', Odometry)
-        odom = Listener('/spawn/r1/odom', Odometry)
-        imu = Listener('/spawn/r1/imu', Imu)
-        cmd = rospy.Publisher('/spawn/r1/cmd_vel', Twist, queue_size=10)
-        wait_until(lambda: cmd.get_num_connections() > 0, what='r1/cmd_vel connected')
+        truth, odom, imu, cmd = drive_topics('/spawn/r1/')
         sim.step(500)
-        forward = Twist()
-        forward.linear.x = 0.5
-        cmd.publish(forward)
-        rospy.sleep(0.5)  # the paused node services its callbacks: the command is in
+        drive_forward(cmd)
         end = sim.step(1500)
         t = truth.at(end)
         self.assertAlmostEqual(t.twist.twist.linear.x, 0.5, delta=0.01)
@@ -272,13 +277,9 @@ class Sensors(unittest.TestCase):
         pose.position.y = -2.0
         res = sim.spawn('rover2', diff, pose, Twist(), 'r2')
         self.assertTrue(res.success, res.message)
-        truth = Listener('/spawn/r2/ground_truth/odom', Odometry)
-        odom = Listener('/spawn/r2/odom', Odometry)
-        cmd = rospy.Publisher('/spawn/r2/cmd_vel', Twist, queue_size=10)
-        wait_until(lambda: cmd.get_num_connections() > 0, what='r2/cmd_vel connected')
+        truth, odom, _, cmd = drive_topics('/spawn/r2/')
         sim.step(300)
-        cmd.publish(forward)
-        rospy.sleep(0.5)
+        drive_forward(cmd)
         half = sim.step(500)
         self.assertAlmostEqual(truth.at(half).twist.twist.linear.x, 0.25, delta=0.02)
         end = sim.step(1000)
