@@ -106,7 +106,10 @@ class ExampleScenesTest(unittest.TestCase):
                     wait_until(lambda: sub.get_num_connections() > 0,
                                what=name + "'s /joint_states connected")
                     del joint_states[:]
-                rospy.ServiceProxy('/%s/step' % name, Step)(10)
+                # 20 steps: one period of the controller scenes' 50 Hz joint_state_controller at
+                # dt = 1 ms, so a /joint_states tick falls within them (10 held none, and the
+                # test then hung on whether the start's message beat the list's clearing).
+                rospy.ServiceProxy('/%s/step' % name, Step)(20)
                 if joints:
                     wait_until(lambda: joint_states, what=name + "'s /joint_states")
                     self.assertLessEqual(set(joints), set(joint_states[-1].name), scene)
