@@ -27,6 +27,7 @@ packages=(build-essential cmake pkg-config python3 python3-catkin-pkg python3-ya
           libeigen3-dev libboost-dev liburdfdom-dev libtinyxml2-dev libgtest-dev googletest
           libqhull-dev  # convex hulls of collision meshes (src/scene/convex_hull.cc)
           libassimp-dev  # collision meshes in Collada and the other formats robot packages ship
+          libccd-dev  # MPR for two collision hulls (src/contact/contact_convex_pairs.cc; FCL's too)
           # seeing a run (doc/node.md "Seeing the simulation"): plots from a bag, rviz under a virtual
           # X server with mesa's software GL, and a screenshot of it
           python3-matplotlib python3-pil xvfb xauth libgl1-mesa-dri imagemagick

@@ -71,6 +71,7 @@ void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
   out.centre_S = vertices->empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (lo + hi));
   for (const auto& v : *vertices) out.bound = std::max(out.bound, (v - out.centre_S).norm());
   out.geometry = std::make_shared<fcl::Convexd>(vertices, face_count, faces);
+  out.hull = makeHull(vertices, *faces, face_count);
 }
 
 CollisionCache::Shape makeShape(const Shape& s, int body, int index) {

@@ -6,7 +6,9 @@
 //   contact_collision_cache.cc   the cache: its shapes, made once per topology
 //   contact_detection.cc         detectContacts: the broad phase (sort and sweep)
 //   contact_ground_plane.cc      the ground plane against each shape's points
-//   contact_shape_pairs.cc       every other pair through FCL
+//   contact_shape_pairs.cc       every other pair: two hulls by contact_convex_pairs.cc, the
+//                                rest through FCL
+//   contact_convex_pairs.cc      two convex hulls through libccd's MPR, allocation-free
 //   contact_overlap_warnings.cc  the overlaps a World reports when it is created
 #pragma once
 
@@ -28,6 +30,19 @@ namespace sim {
 /// points the ground plane is tested against, and a bounding sphere about the shape's origin.
 class CollisionCache {
  public:
+  /// A mesh's convex hull as the narrow phase of two hulls walks it (contact_convex_pairs.cc):
+  /// FCL's Convex takes the same vertices and faces, so both see one hull.
+  struct Hull {
+    std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices;
+    /// Per vertex v: at neighbours[v] the count of its neighbours along the faces' edges, then
+    /// those neighbours in ascending order (FCL's encoding of a Convex's vertex graph).
+    std::vector<int> neighbours;
+    Eigen::Vector3d interior = Eigen::Vector3d::Zero();  ///< the vertices' mean (MPR's start)
+    /// Scratch of the support walk: a vertex is visited in this query if its mark equals
+    /// `generation` (one increment per query instead of clearing the marks).
+    std::vector<std::uint32_t> mark;
+    std::uint32_t generation = 0;
+  };
   struct Shape {
     int body = -1;
     int shape = -1;
@@ -38,6 +53,7 @@ class CollisionCache {
     /// The FCL geometry is this much larger on every side (0 for meshes), so that bodies
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
+    std::shared_ptr<Hull> hull;  ///< meshes only
   };
   /// A shape's bounding sphere in the sweep: its extent along x, and its centre's y and z and
   /// its radius, so that the sweep rejects a pair from these alone (contiguous in memory).
@@ -94,6 +110,20 @@ inline void placeShape(const Model& model, const Data& data, CollisionCache& cac
 void planeContacts(const Model& model, const Data& data, CollisionCache& cache, std::size_t first,
                    std::size_t last, double fixed_margin, std::vector<Contact>& out,
                    const std::vector<char>* asleep = nullptr);
+
+/// The hull of `vertices` whose faces are given in FCL's encoding (per face its vertex count,
+/// then its vertices), with its vertex graph and interior point (contact_convex_pairs.cc).
+std::shared_ptr<CollisionCache::Hull> makeHull(
+    std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices, const std::vector<int>& faces,
+    int face_count);
+
+/// Two hulls placed at M_WA and M_WB: whether they overlap and, if so, the deepest point, the
+/// normal from a to b and the depth of their overlap, as FCL's narrow phase for two Convex
+/// shapes gives them (libccd's MPR, FCL's tolerance and iteration bound), without allocating
+/// (contact_convex_pairs.cc).
+bool hullPairContact(CollisionCache::Hull& a, const Eigen::Isometry3d& M_WA,
+                     CollisionCache::Hull& b, const Eigen::Isometry3d& M_WB,
+                     Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth);
 
 /// Appends the contacts of shapes s1 (side a) and s2 (side b) at their placed poses
 /// (contact_shape_pairs.cc).

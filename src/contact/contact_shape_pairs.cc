@@ -1,6 +1,6 @@
-// The narrow phase of two shapes (doc/contacts.md#detection) through FCL: box–box gives the
-// full face manifold (up to four points), meshes collide as their convex hulls, and the shapes'
-// speculative margins are taken off FCL's depth again.
+// The narrow phase of two shapes (doc/contacts.md#detection): two meshes as their convex hulls
+// (contact_convex_pairs.cc), every other pair through FCL, where box–box gives the full face
+// manifold (up to four points) and the shapes' speculative margins are taken off FCL's depth.
 #include <fcl/narrowphase/collision.h>
 
 #include <cmath>
@@ -15,6 +15,30 @@ void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
                   std::vector<Contact>& out) {
   const CollisionCache::Shape& A = cache.shapes[s1];
   const CollisionCache::Shape& B = cache.shapes[s2];
+  const auto& sa = model.scene.bodies[A.body].shapes[A.shape];
+  const auto& sb = model.scene.bodies[B.body].shapes[B.shape];
+  const auto add = [&](const Eigen::Vector3d& point_W, const Eigen::Vector3d& normal_ab,
+                       double depth) {
+    if (!normal_ab.allFinite() || !point_W.allFinite() || !std::isfinite(depth)) return;
+    Contact k;
+    k.body_a = A.body;
+    k.shape_a = A.shape;
+    k.body_b = B.body;
+    k.shape_b = B.shape;
+    k.point_W = point_W;
+    k.normal_W = -normal_ab.normalized();  // the contact's normal points from b to a
+    k.depth = depth - A.margin - B.margin;
+    combineSurfaces(model, sa.surface, sb.surface, k);
+    out.push_back(k);
+  };
+  if (A.hull && B.hull) {
+    Eigen::Vector3d point_W, normal_ab;
+    double depth;
+    if (hullPairContact(*A.hull, cache.pose_W[s1], *B.hull, cache.pose_W[s2], point_W, normal_ab,
+                        depth))
+      add(point_W, normal_ab, depth);
+    return;
+  }
   fcl::CollisionRequestd request(4, true);
   fcl::CollisionResultd result;
   fcl::collide(A.geometry.get(), cache.pose_W[s1], B.geometry.get(), cache.pose_W[s2], request,
@@ -22,22 +46,8 @@ void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
   if (!result.isCollision()) return;
   cache.fcl_contacts.clear();
   result.getContacts(cache.fcl_contacts);
-  const auto& sa = model.scene.bodies[A.body].shapes[A.shape];
-  const auto& sb = model.scene.bodies[B.body].shapes[B.shape];
-  for (const fcl::Contactd& f : cache.fcl_contacts) {
-    if (!f.normal.allFinite() || !f.pos.allFinite() || !std::isfinite(f.penetration_depth))
-      continue;
-    Contact k;
-    k.body_a = A.body;
-    k.shape_a = A.shape;
-    k.body_b = B.body;
-    k.shape_b = B.shape;
-    k.point_W = f.pos;
-    k.normal_W = -f.normal.normalized();  // FCL's points from o1 (a) to o2 (b)
-    k.depth = f.penetration_depth - A.margin - B.margin;
-    combineSurfaces(model, sa.surface, sb.surface, k);
-    out.push_back(k);
-  }
+  for (const fcl::Contactd& f : cache.fcl_contacts)
+    add(f.pos, f.normal, f.penetration_depth);  // FCL's normal points from o1 (a) to o2 (b)
 }
 
 }  // namespace detail

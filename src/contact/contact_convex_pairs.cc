@@ -1,0 +1,159 @@
+// The narrow phase of two convex hulls (doc/contacts.md#detection): libccd's Minkowski Portal
+// Refinement, as FCL runs it for two Convex shapes (its GJKSolver_libccd: the same support and
+// interior points, tolerance and iteration bound), called here directly so that a step does
+// not allocate. FCL's Convex allocates its visit marks on every support query and FCL a libccd
+// object per shape on every pair; here the marks live in the hull and the objects on the stack.
+#include <ccd/ccd.h>
+#include <ccd/quat.h>
+
+#include <algorithm>
+#include <set>
+
+#include "contact/contact_detection_internals.h"
+
+namespace cga_rigid_sim {
+namespace sim {
+namespace detail {
+namespace {
+
+// FCL walks a hull's vertex graph for the support point from this many vertices on (fewer:
+// it looks at every vertex), and stops MPR at this tolerance and iteration count.
+constexpr std::size_t kWalkFromVertices = 32;
+constexpr double kMprTolerance = 1e-6;
+constexpr unsigned long kMprIterations = 500;
+
+// A hull placed in the world, in libccd's terms.
+struct PlacedHull {
+  CollisionCache::Hull* hull;
+  ccd_vec3_t position;
+  ccd_quat_t rotation, inverse;
+};
+
+PlacedHull place(CollisionCache::Hull& hull, const Eigen::Isometry3d& M_WS) {
+  PlacedHull p;
+  p.hull = &hull;
+  const Eigen::Quaterniond q(M_WS.linear());
+  const Eigen::Vector3d& t = M_WS.translation();
+  ccdVec3Set(&p.position, t.x(), t.y(), t.z());
+  ccdQuatSet(&p.rotation, q.x(), q.y(), q.z(), q.w());
+  ccdQuatInvert2(&p.inverse, &p.rotation);
+  return p;
+}
+
+// The hull's vertex farthest along d (shape frame): a walk from vertex 0 to a neighbour at
+// least as far until none is, each vertex looked at once (>=: a start coplanar with all its
+// neighbours and perpendicular to d still walks on); small hulls are searched whole.
+const Eigen::Vector3d& extremeVertex(CollisionCache::Hull& h, const Eigen::Vector3d& d) {
+  const std::vector<Eigen::Vector3d>& v = *h.vertices;
+  int best = 0;
+  double best_value = d.dot(v[0]);
+  if (v.size() > kWalkFromVertices) {
+    if (++h.generation == 0) {  // wrapped: no stale mark may equal the new generation
+      std::fill(h.mark.begin(), h.mark.end(), 0u);
+      h.generation = 1;
+    }
+    bool moved = true;
+    while (moved) {
+      moved = false;
+      const int start = h.neighbours[best];
+      const int count = h.neighbours[start];
+      for (int k = start + 1; k <= start + count; ++k) {
+        const int n = h.neighbours[k];
+        if (h.mark[n] == h.generation) continue;
+        h.mark[n] = h.generation;
+        const double value = d.dot(v[n]);
+        if (value >= best_value) {
+          moved = true;
+          best = n;
+          best_value = value;
+        }
+      }
+    }
+  } else {
+    for (int k = 1; k < static_cast<int>(v.size()); ++k) {
+      const double value = d.dot(v[k]);
+      if (value > best_value) {
+        best = k;
+        best_value = value;
+      }
+    }
+  }
+  return v[best];
+}
+
+void support(const void* object, const ccd_vec3_t* direction_W, ccd_vec3_t* out) {
+  const auto* p = static_cast<const PlacedHull*>(object);
+  ccd_vec3_t d;
+  ccdVec3Copy(&d, direction_W);
+  ccdQuatRotVec(&d, &p->inverse);
+  const Eigen::Vector3d& e = extremeVertex(*p->hull, Eigen::Vector3d(d.v[0], d.v[1], d.v[2]));
+  ccdVec3Set(out, e.x(), e.y(), e.z());
+  ccdQuatRotVec(out, &p->rotation);
+  ccdVec3Add(out, &p->position);
+}
+
+void interior(const void* object, ccd_vec3_t* out) {
+  const auto* p = static_cast<const PlacedHull*>(object);
+  const Eigen::Vector3d& c = p->hull->interior;
+  ccdVec3Set(out, c.x(), c.y(), c.z());
+  ccdQuatRotVec(out, &p->rotation);
+  ccdVec3Add(out, &p->position);
+}
+
+}  // namespace
+
+std::shared_ptr<CollisionCache::Hull> makeHull(
+    std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices, const std::vector<int>& faces,
+    int face_count) {
+  auto h = std::make_shared<CollisionCache::Hull>();
+  const int n = static_cast<int>(vertices->size());
+  std::vector<std::set<int>> next(n);
+  std::size_t at = 0;
+  for (int f = 0; f < face_count; ++f) {
+    const int corners = faces[at];
+    int previous = faces[at + corners];
+    for (std::size_t k = at + 1; k <= at + corners; ++k) {
+      next[faces[k]].insert(previous);
+      next[previous].insert(faces[k]);
+      previous = faces[k];
+    }
+    at += corners + 1;
+  }
+  h->neighbours.resize(n);
+  for (int v = 0; v < n; ++v) {
+    h->neighbours[v] = static_cast<int>(h->neighbours.size());
+    h->neighbours.push_back(static_cast<int>(next[v].size()));
+    h->neighbours.insert(h->neighbours.end(), next[v].begin(), next[v].end());
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& v : *vertices) sum += v;
+  h->interior = sum * (1.0 / n);
+  h->mark.assign(n, 0u);
+  h->vertices = std::move(vertices);
+  return h;
+}
+
+bool hullPairContact(CollisionCache::Hull& a, const Eigen::Isometry3d& M_WA,
+                     CollisionCache::Hull& b, const Eigen::Isometry3d& M_WB,
+                     Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth) {
+  const PlacedHull pa = place(a, M_WA), pb = place(b, M_WB);
+  ccd_t ccd;
+  CCD_INIT(&ccd);
+  ccd.support1 = &support;
+  ccd.support2 = &support;
+  ccd.center1 = &interior;
+  ccd.center2 = &interior;
+  ccd.max_iterations = kMprIterations;
+  ccd.mpr_tolerance = kMprTolerance;
+  ccd_real_t d;
+  ccd_vec3_t direction, position;
+  if (ccdMPRPenetration(&pa, &pb, &ccd, &d, &direction, &position) != 0) return false;
+  point_W = Eigen::Vector3d(position.v[0], position.v[1], position.v[2]);
+  normal_W = Eigen::Vector3d(direction.v[0], direction.v[1], direction.v[2]);
+  depth = d;
+  return true;
+}
+
+}  // namespace detail
+}  // namespace sim
+}  // namespace cga_rigid_sim
