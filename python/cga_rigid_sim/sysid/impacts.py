@@ -29,7 +29,7 @@ import sys
 
 import numpy as np
 
-from . import model, scoring, trajectories
+from . import model, rocking, scoring, trajectories
 
 RATE = 148.0
 POST = 2
@@ -222,6 +222,10 @@ def main(argv=None):
     ap.add_argument('--scatter', default=None, metavar='MU,E,N',
                     help='with --sim: draw μ (relative standard deviation MU) and e (standard '
                          'deviation E) afresh for each run, N times, and count the same')
+    ap.add_argument('--rocking', action='store_true',
+                    help='also measure the rocking impacts (an edge landing after a turn on the '
+                         'next edge) and, with --sim, where the runs ending on another face part '
+                         '(sysid/rocking.py)')
     args = ap.parse_args(argv)
     global HALF, MASS, INERTIA
     urdf = open(args.urdf or os.path.join(args.data, 'cube.urdf')).read()
@@ -271,6 +275,18 @@ def main(argv=None):
             print('  %-56s %6.3f [%6.3f %6.3f]' % (name, *q))
     summary('data')
     summary('sim')
+    if args.rocking:
+        for side in ('data', 'sim') if sims is not None else ('data',):
+            found = []
+            for i, run in enumerate(runs):
+                if side == 'data':
+                    found += rocking.rocking_impacts(run.position, run.quaternion)
+                elif sims[i]['ok']:
+                    found += rocking.rocking_impacts(sims[i]['poses'][:, :3],
+                                                     sims[i]['poses'][:, 3:])
+            rocking.summarize_rocking(side, found)
+        if sims is not None:
+            rocking.print_parting(rocking.parting(runs, sims))
     if sims is not None:
         later(runs, sims)
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):

@@ -1,0 +1,193 @@
+"""The rocking impacts of the measured cube tosses, one by one, and where the simulated
+tosses that end on another face part from the real ones (doc/fitting.md#the-rocking-impacts-measured).
+
+A rocking impact: the cube turns on one edge (A, its two lowest corners on the surface, the
+turn about A's axis) and lands on the next (B, the opposite edge of the face coming down), as
+Housner's rocking block. Each one found where |ω| falls by more than a quarter in one sample
+interval (as `fit impacts` counts the later impacts) is measured as the first impact is
+(sysid/impacts.py): the velocities over the sample interval before and the one after, the
+impulse the surface gave between their middles, P = m (v⁺ − v⁻ − g Δt) (A's and B's together,
+the weight's share included), its friction ratio |P_t|/P_n, what ω keeps along its direction,
+and B's velocity before and after, along the normal and across the edge (B's slip: 0 if it
+grips).
+
+  scripts/fit impacts DATA_DIR --rocking [--sim PARAMS] [--json OUT]
+"""
+import math
+
+import numpy as np
+
+from . import impacts, scoring
+
+AXIS = 0.8           # |cos| of the turn's axis with the edge's
+
+
+def intervals(positions, quats):
+    """Velocity of the centre and ω (world axes) over each sample interval."""
+    v = np.diff(positions, axis=0) * impacts.RATE
+    return v, impacts.turn_vectors(quats)
+
+
+def drops(w, first=6, last=74):
+    """(k, j): |ω| falls by more than a quarter from interval k to k + 1; j the interval after
+    it (k + 1 or k + 2, the lower), as impacts.later counts them, but a fall that goes on into
+    the interval after is one impact, not two."""
+    out = []
+    for k in range(first, min(len(w) - 2, last)):
+        if w[k] > 3 and w[k + 1] < 0.75 * w[k] and not (out and k < out[-1][1]):
+            out.append((k, k + 1 if w[k + 1] <= w[k + 2] else k + 2))
+    return out
+
+
+def edge_geometry(q, p, wv, max_tilt=20.0):
+    """A (the pivot edge: its two corners' indices), B (the landing edge's) and the tilt of the
+    face coming down, or None when the cube is not turning about an edge of its lowest face
+    (the face within max_tilt of flat, ω within acos(AXIS) of one of its edges' direction)."""
+    c = impacts.corners_world(q, p)
+    axes = np.array([scoring.quat_rotate(q, e) for e in np.eye(3)])
+    down = int(np.argmax(np.abs(axes[:, 2])))
+    tilt = math.degrees(math.acos(min(1.0, abs(axes[down, 2]))))
+    if tilt > max_tilt:
+        return None
+    s = impacts.SIGNS
+    side = -np.sign(axes[down, 2])            # the lowest face: body coordinate `down` = side
+    face = [m for m in range(8) if s[m, down] == side]
+    cos = np.abs(axes @ (wv / np.linalg.norm(wv)))
+    cos[down] = 0
+    along = int(np.argmax(cos))
+    if cos[along] < AXIS:
+        return None
+    across = 3 - down - along
+    e0 = np.array([m for m in face if s[m, across] < 0])
+    e1 = np.array([m for m in face if s[m, across] > 0])
+    a, b = (e0, e1) if c[e0, 2].mean() < c[e1, 2].mean() else (e1, e0)
+    return a, b, tilt
+
+
+def rocking_impacts(positions, quats):
+    """Every rocking impact of one run (poses from its start)."""
+    v, wv = intervals(positions, quats)
+    w = np.linalg.norm(wv, axis=1)
+    out = []
+    for k, j in drops(w):
+        geo = edge_geometry(quats[k], positions[k], wv[k])
+        if geo is None:
+            continue
+        a, b, tilt = geo
+        dt = (j - k) / impacts.RATE
+        P = impacts.MASS * (v[j] - v[k] - impacts.G * dt)
+        c = impacts.corners_world(quats[k], positions[k])
+        centre = positions[k]
+        rb = c[b].mean(0) - centre
+        ra = c[a].mean(0) - centre
+        axis = c[a[1]] - c[a[0]]
+        axis /= np.linalg.norm(axis)
+        across = np.cross(axis, [0.0, 0.0, 1.0])
+        across /= np.linalg.norm(across)
+        if np.dot(across, rb - ra) < 0:
+            across = -across                   # from A towards B
+        ub0, ub1 = v[k] + np.cross(wv[k], rb), v[j] + np.cross(wv[j], rb)
+        ua1 = v[j] + np.cross(wv[j], ra)
+        if ub0[2] >= 0:
+            continue                           # B not coming down: not a landing on B
+        out.append({'k': int(k), 'j': int(j), 'tilt_deg': float(tilt),
+                    'w_pre': float(w[k]), 'kept': float(wv[j] @ wv[k] / w[k] ** 2),
+                    'Pn': float(P[2]), 'Pt': float(np.linalg.norm(P[:2])),
+                    'Pt_across': float(P @ across),
+                    'ratio': float(np.linalg.norm(P[:2]) / P[2]) if P[2] > 0 else math.nan,
+                    'ub_n_pre': float(ub0[2]), 'ub_n_post': float(ub1[2]),
+                    'bounce': float(-ub1[2] / ub0[2]),
+                    'ub_slip_pre': float(ub0 @ across), 'ub_slip_post': float(ub1 @ across),
+                    'ua_n_post': float(ua1[2])})
+    return out
+
+
+def summarize_rocking(side, rows):
+    """Medians and quartiles over a side's rocking impacts; the gripping against the slipping."""
+    if not rows:
+        print('%s: no rocking impacts' % side)
+        return
+    def col(key, rs=rows):
+        return np.array([r[key] for r in rs], float)
+    print('%s: %d rocking impacts (tilt %.0f deg median); median [quartiles]'
+          % (side, len(rows), np.median(col('tilt_deg'))))
+    for key, name in (('w_pre', '|w| before, rad/s'), ('kept', 'w kept along its direction'),
+                      ('Pn', 'normal impulse P_n, N s'), ('ratio', 'friction ratio |P_t|/P_n'),
+                      ('ub_n_pre', "B's normal velocity before, m/s"),
+                      ('ub_n_post', "B's normal velocity after, m/s"),
+                      ('bounce', "B's restitution (after over before)"),
+                      ('ub_slip_pre', "B's slip across the edge before, m/s"),
+                      ('ub_slip_post', "B's slip across the edge after, m/s"),
+                      ('ua_n_post', "A's normal velocity after (> 0: lifts), m/s")):
+        q = np.nanpercentile(col(key), [50, 25, 75])
+        print('  %-48s %7.3f [%7.3f %7.3f]' % (name, *q))
+    kept = col('kept')
+    print('  turned back (kept < -0.1) in %.0f %%' % (100 * np.mean(kept < -0.1)))
+    slip = np.abs(col('ub_slip_post'))
+    for name, m in (('B grips (|slip after| < 0.03 m/s)', slip < 0.03),
+                    ('B slips', slip >= 0.03)):
+        if m.any():
+            rs = [r for r, x in zip(rows, m) if x]
+            print('  %-34s %3d: kept %.2f, ratio %.2f, turned back in %.0f %%'
+                  % (name, m.sum(), np.median(col('kept', rs)), np.nanmedian(col('ratio', rs)),
+                     100 * np.mean(col('kept', rs) < -0.1)))
+
+
+def down_face(q):
+    """The body axis (±1, ±2, ±3) pointing most nearly down."""
+    d = scoring.quat_rotate(scoring.quat_conj(q), np.array([0.0, 0.0, -1.0]))
+    i = int(np.argmax(np.abs(d)))
+    return (i + 1) * (1 if d[i] > 0 else -1)
+
+
+def parting(runs, sims, threshold=40.0):
+    """The runs whose simulation ends on another face than the real cube (final rotation error
+    above `threshold` degrees), each with the sample where the two part for good (rotation error
+    above 15 deg from there on) and what each cube was doing in the 4 samples before it."""
+    rows = []
+    for run, sim in zip(runs, sims):
+        if not sim['ok']:
+            continue
+        rot = np.degrees(sim['rotation_series'])
+        if rot[-1] < threshold:
+            continue
+        above = rot > 15
+        m = len(above)
+        while m > 0 and above[m - 1]:
+            m -= 1
+        row = {'run': run.name, 'part': int(m), 'final_deg': float(rot[-1]),
+               'face_data': down_face(run.quaternion[-1]),
+               'face_sim': down_face(sim['poses'][-1, 3:])}
+        for side, p, q in (('data', run.position, run.quaternion),
+                           ('sim', sim['poses'][:, :3], sim['poses'][:, 3:])):
+            v, wv = intervals(p, q)
+            w = np.linalg.norm(wv, axis=1)
+            ks = [k for k, _ in drops(w, first=0, last=len(w))]
+            lo = max(0, m - 6)
+            row[side] = {'drops_before': sum(k < m for k in ks),
+                         'drop_near': [k for k in ks if lo <= k <= m + 1],
+                         'w': float(w[min(m, len(w) - 1)]),
+                         'tilt_deg': float(tilt_of(q[m])),
+                         'max_tilt_after': float(max(tilt_of(x) for x in q[m:m + 30])),
+                         'on_edge': edge_geometry(q[m], p[m], wv[min(m, len(w) - 1)]) is not None}
+        rows.append(row)
+    return rows
+
+
+def tilt_of(q):
+    """Angle of the body axis nearest the vertical from it, degrees."""
+    up = [scoring.quat_rotate(q, e) for e in np.eye(3)]
+    return math.degrees(math.acos(min(1.0, max(abs(u[2]) for u in up))))
+
+
+def print_parting(rows):
+    print('runs ending on another face: %d' % len(rows))
+    print('  run  part(sample)  final  | data: drops, tilt, max tilt next 30, |w|, on edge '
+          '| sim: the same')
+    for r in rows:
+        d, s = r['data'], r['sim']
+        print('  %s %4d %5.0f deg | %d %4.0f %4.0f %5.1f %d | %d %4.0f %4.0f %5.1f %d | drops near '
+              'data %s sim %s' % (r['run'], r['part'], r['final_deg'], d['drops_before'],
+                                  d['tilt_deg'], d['max_tilt_after'], d['w'], d['on_edge'],
+                                  s['drops_before'], s['tilt_deg'], s['max_tilt_after'], s['w'],
+                                  s['on_edge'], d['drop_near'], s['drop_near']))

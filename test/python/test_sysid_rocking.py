@@ -1,0 +1,76 @@
+"""`fit impacts --rocking` (sysid/rocking.py, doc/fitting.md#the-rocking-impacts-measured):
+the rocking impact's measure read on a simulated rocking cube against the simulator's own
+velocities, gripping and slipping."""
+import os
+
+import numpy as np
+import pytest
+
+import cga_rigid_sim as cs
+from cga_rigid_sim.sysid import impacts, model, rocking
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+URDF = os.path.join(HERE, 'data', 'cube_tosses', 'cube.urdf')
+SIZE, RATE, STEPS = 0.1048, 148.0, 7
+
+
+def rocking_poses(e, mu, impact_ratio=1.0, scale=1.26, tilt=np.radians(35), omega=-3.0):
+    """A cube turning on one bottom edge falls onto the next, sampled at 148 Hz; with ω about
+    the edges' axis in the last step before the landing and in the first after it."""
+    a = SIZE / 2
+    w = cs.world_from_urdf(model.scale_inertia(open(URDF).read(), scale), dt=1 / (RATE * STEPS),
+                           ground_plane={'height': 0.0, 'mu': mu, 'restitution': e},
+                           contact_mu=mu, contact_restitution=e,
+                           contact_model={'impact_friction_ratio': impact_ratio})
+    c, s = np.cos(tilt), np.sin(tilt)
+    pivot = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]) @ np.array([a, 0, -a])
+    centre = -pivot + [0, 0, 1e-9]
+    w_vec = np.array([0.0, omega, 0.0])
+    w.set_body_state('body', centre, [np.cos(tilt / 2), 0, np.sin(tilt / 2), 0],
+                     np.cross(w_vec, -pivot), w_vec)
+    poses, om = [w.poses()[0].copy()], []
+    for _ in range(40):
+        for _ in range(STEPS):
+            w.step()
+            om.append(w.velocities()[0][4])
+        poses.append(w.poses()[0].copy())
+    k = int(np.argmax(np.abs(np.diff(om))))
+    return np.array(poses), om[k + 1] / om[k]
+
+
+@pytest.fixture(autouse=True)
+def cube():
+    impacts.HALF, impacts.MASS, impacts.INERTIA = impacts.read_cube(open(URDF).read())
+
+
+def test_a_gripping_landing_edge_reads_housners_turn_and_no_slip():
+    # Truth: the simulator's own ω just before and after the landing (Housner's ratio, to 0.003
+    # in test_sysid_fit). The measure reads ω over whole sample intervals (6.8 ms) on either
+    # side of the landing, where gravity turns the cube about its pivot at m g a / I_A ≈
+    # 60 rad/s²: about 0.4 rad/s of the ~6 rad/s before, so each ratio to 0.07. The landing
+    # edge held (μ 1) moves across itself by 0 after; read from poses, to 0.01 m/s.
+    for e in (0.0, 0.3):
+        poses, exact = rocking_poses(e, 1.0)
+        found = rocking.rocking_impacts(poses[:, :3], poses[:, 3:])
+        assert len(found) == 1
+        r = found[0]
+        assert r['kept'] == pytest.approx(exact, abs=0.07)
+        assert abs(r['ub_slip_post']) < 0.01
+        assert r['ub_n_pre'] < -0.3                # B came down onto the table
+        assert r['ua_n_post'] > 0.1                # and A lifted: the cube rocks on over B
+
+
+def test_a_slipping_landing_edge_reads_the_impact_friction_and_the_turn_back():
+    # Truth: the landing edge slides through its impact, so its friction is the model's
+    # μ k_i = 0.21 · 0.78; the measured impulse also holds the pivot edge's share of the weight
+    # over the intervals (m g Δt ≈ 0.05 N s of ≈ 0.22 N s, with no friction across while it
+    # rests): the ratio within [0.75, 1] μ k_i. The turn reverses (Newton's bounce at a slipping
+    # edge): the simulator's ratio, to 0.07 as above.
+    poses, exact = rocking_poses(0.3, 0.21, 0.78)
+    found = rocking.rocking_impacts(poses[:, :3], poses[:, 3:])
+    assert len(found) == 1
+    r = found[0]
+    assert exact < 0
+    assert r['kept'] == pytest.approx(exact, abs=0.07)
+    assert 0.75 * 0.21 * 0.78 <= r['ratio'] <= 0.21 * 0.78
+    assert abs(r['ub_slip_post']) > 0.1
