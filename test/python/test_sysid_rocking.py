@@ -74,3 +74,39 @@ def test_a_slipping_landing_edge_reads_the_impact_friction_and_the_turn_back():
     assert r['kept'] == pytest.approx(exact, abs=0.07)
     assert 0.75 * 0.21 * 0.78 <= r['ratio'] <= 0.21 * 0.78
     assert abs(r['ub_slip_post']) > 0.1
+
+
+def test_predictability_finds_a_law_where_there_is_one_and_none_in_noise():
+    # Truth: friction ratios exactly linear in the tilt are predicted held out to round-off
+    # (R² 1 within 1e-9), and the bounce, independent noise, not at all (R² ≤ 0.1: with 80
+    # samples and 9 coefficients, leave-one-out R² of pure noise is about −0.1 ± 0.1).
+    rng = np.random.default_rng(0)
+    rows = []
+    for i in range(80):
+        tilt = rng.uniform(10, 50)
+        w = rng.normal(size=3) * 3
+        rows.append({'data': {
+            'kind': 'corner', 'tilt_deg': tilt, 'ut_pre': rng.uniform(0.5, 1),
+            'un_pre': -rng.uniform(0.9, 1.3), 'w_pre': w, 'r': rng.normal(size=3) * 0.05,
+            'v_pre': rng.normal(size=3), 'place': rng.normal(size=2),
+            'Pt': 0.16 + 0.001 * (tilt - 30), 'Pn': 1.0,
+            'un_post': 0.2 + 0.05 * rng.normal(), 'corner': i % 8}})
+    for r in rows:                                  # bounce = -un_post / un_pre: noise
+        r['data']['un_post'] *= -r['data']['un_pre']
+    out = rocking.predictability(rows)
+    assert out['friction ratio'][0] == pytest.approx(1.0, abs=1e-9)
+    assert out['bounce'][0] <= 0.1
+
+
+def test_each_run_at_its_own_best_grid_point_recovers_the_runs_it_came_from():
+    # Truth: runs made by the simulator, two under μ 0.2 and two under μ 0.3, are each
+    # reproduced exactly (errors 0 to round-off) at their own point of the grid {0.2, 0.3},
+    # while one point for all leaves two of them off.
+    from test_sysid_fit import synthetic_runs
+    urdf, a = synthetic_runs({'mu': 0.2, 'restitution': 0.1}, n=2)
+    _, b = synthetic_runs({'mu': 0.3, 'restitution': 0.1}, n=4)
+    runs = a + b[2:]
+    pos, rot, pos1, rot1 = impacts.per_run_best(urdf, runs, {'restitution': 0.1},
+                                                {'mu': [0.2, 0.3]})
+    assert pos < 1e-12 and rot < 1e-9
+    assert pos1 > 0.01

@@ -174,6 +174,101 @@ def parting(runs, sims, threshold=40.0):
     return rows
 
 
+def face_sequence(quats):
+    """The faces the cube lies nearest to, in the order it visits them."""
+    out = []
+    for q in quats:
+        f = down_face(q)
+        if not out or out[-1] != f:
+            out.append(f)
+    return out
+
+
+def trend(quats, k):
+    """'back' if the tilt falls by more than 1 deg from sample k + 3 to k + 9 after the first
+    impact at k (the cube falling back from the edge it landed on onto the face), 'over' if it
+    rises by as much, else 'level'."""
+    a, b = tilt_of(quats[k + 3]), tilt_of(quats[k + 9])
+    return 'over' if b > a + 1 else ('back' if b < a - 1 else 'level')
+
+
+def compare_after_first_impact(runs, sims, first, threshold=40.0):
+    """The runs ending on another face against the others: how their face sequences differ,
+    ω's difference after the first impact (at sample first[i]) relative to the measured one,
+    the attitude's difference 10 samples after it, and the tilt's trend from the edge landed
+    on, measured and simulated."""
+    kinds, err = {}, {True: [], False: []}
+    trends = {}
+    for run, sim, k in zip(runs, sims, first):
+        if not sim['ok'] or k is None:
+            continue
+        qs = sim['poses'][:, 3:]
+        wrong = bool(np.degrees(sim['rotation_series'][-1]) > threshold)
+        if wrong:
+            d, s = face_sequence(run.quaternion), face_sequence(qs)
+            kind = ('simulated one face further' if s[:-1] == d else
+                    'real one face further' if d[:-1] == s else
+                    'simulated further' if s[:len(d)] == d else
+                    'real further' if d[:len(s)] == s else 'different ways')
+            kinds.setdefault(kind, []).append(run.name)
+        wd = impacts.turn_vectors(run.quaternion)
+        ws = impacts.turn_vectors(qs)
+        err[wrong].append([np.linalg.norm(wd[k + 3] - ws[k + 3]) / np.linalg.norm(wd[k + 3]),
+                           math.degrees(sim['rotation_series'][k + 10])])
+        key = (trend(run.quaternion, k), trend(qs, k))
+        n, m = trends.get(key, (0, 0))
+        trends[key] = (n + 1, m + wrong)
+    for kind, names in sorted(kinds.items()):
+        print('  %-28s %2d: %s' % (kind, len(names), ' '.join(names)))
+    for wrong in (True, False):
+        if err[wrong]:
+            e = np.median(np.array(err[wrong]), 0)
+            print('  runs %s: |w_sim - w_data|/|w_data| just after the first impact %.2f, '
+                  'attitude apart 10 samples after it %.1f deg (medians of %d)'
+                  % ('on another face' if wrong else 'on the same face', e[0], e[1],
+                     len(err[wrong])))
+    print('  tilt 3 -> 9 samples after the first impact (data, sim): runs, of them on another face')
+    for key, (n, m) in sorted(trends.items()):
+        print('    %-6s %-6s %3d %3d' % (key[0], key[1], n, m))
+
+
+def predictability(rows):
+    """Whether the first corner impacts' friction ratio and bounce follow from the state before
+    them: a linear least-squares model in the tilt, the slip speed, the normal speed, |ω|, the
+    spin about the vertical, the slip's direction against the lever's and the place on the
+    table, scored leave-one-out (R²); and a Kruskal–Wallis test of both across the cube's eight
+    corners."""
+    from scipy.stats import kruskal
+    X, Y, corner = [], [], []
+    for row in rows:
+        md = row['data']
+        if md['kind'] != 'corner':
+            continue
+        w, r = md['w_pre'], md['r']
+        slip = (md['v_pre'] + np.cross(w, r))[:2]
+        X.append([md['tilt_deg'], md['ut_pre'], -md['un_pre'], np.linalg.norm(w), abs(w[2]),
+                  (slip / np.linalg.norm(slip)) @ (r[:2] / np.linalg.norm(r[:2])),
+                  *md['place']])
+        Y.append([md['Pt'] / md['Pn'], -md['un_post'] / md['un_pre']])
+        corner.append(md['corner'])
+    X, Y, corner = np.array(X), np.array(Y), np.array(corner)
+    A = np.c_[np.ones(len(X)), (X - X.mean(0)) / np.where(X.std(0) > 0, X.std(0), 1.0)]
+    out = {}
+    for j, name in enumerate(('friction ratio', 'bounce')):
+        loo = []
+        for i in range(len(X)):
+            m = np.arange(len(X)) != i
+            c = np.linalg.lstsq(A[m], Y[m, j], rcond=None)[0]
+            loo.append(Y[i, j] - A[i] @ c)
+        r2 = 1 - np.sum(np.square(loo)) / np.sum(np.square(Y[:, j] - Y[:, j].mean()))
+        p = kruskal(*[Y[corner == c, j] for c in np.unique(corner)]).pvalue
+        print('  %s of the %d corner impacts: sd %.3f, leave-one-out R^2 of the linear model '
+              '%.2f; across the 8 corners Kruskal-Wallis p = %.2f' % (name, len(X),
+                                                                      Y[:, j].std(), r2, p))
+        out[name] = (r2, p)
+    return out
+
+
 def tilt_of(q):
     """Angle of the body axis nearest the vertical from it, degrees."""
     up = [scoring.quat_rotate(q, e) for e in np.eye(3)]
