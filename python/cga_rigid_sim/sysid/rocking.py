@@ -195,8 +195,9 @@ def trend(quats, k):
 def compare_after_first_impact(runs, sims, first, threshold=40.0):
     """The runs ending on another face against the others: how their face sequences differ,
     ω's difference after the first impact (at sample first[i]) relative to the measured one,
-    the attitude's difference 10 samples after it, and the tilt's trend from the edge landed
-    on, measured and simulated."""
+    the attitude's difference 10 samples after it, how high the lowest (sharp) corner rises
+    after it (z of the data's frame: the table is 1.2 mm below 0), and the tilt's trend from
+    the edge landed on, measured and simulated."""
     kinds, err = {}, {True: [], False: []}
     trends = {}
     for run, sim, k in zip(runs, sims, first):
@@ -213,8 +214,11 @@ def compare_after_first_impact(runs, sims, first, threshold=40.0):
             kinds.setdefault(kind, []).append(run.name)
         wd = impacts.turn_vectors(run.quaternion)
         ws = impacts.turn_vectors(qs)
+        lift = [1e3 * max(impacts.corners_world(q[i], p[i])[:, 2].min()
+                          for i in range(k + 2, k + 12)) for p, q in
+                ((run.position, run.quaternion), (sim['poses'][:, :3], qs))]
         err[wrong].append([np.linalg.norm(wd[k + 3] - ws[k + 3]) / np.linalg.norm(wd[k + 3]),
-                           math.degrees(sim['rotation_series'][k + 10])])
+                           math.degrees(sim['rotation_series'][k + 10])] + lift)
         key = (trend(run.quaternion, k), trend(qs, k))
         n, m = trends.get(key, (0, 0))
         trends[key] = (n + 1, m + wrong)
@@ -224,9 +228,10 @@ def compare_after_first_impact(runs, sims, first, threshold=40.0):
         if err[wrong]:
             e = np.median(np.array(err[wrong]), 0)
             print('  runs %s: |w_sim - w_data|/|w_data| just after the first impact %.2f, '
-                  'attitude apart 10 samples after it %.1f deg (medians of %d)'
-                  % ('on another face' if wrong else 'on the same face', e[0], e[1],
-                     len(err[wrong])))
+                  'attitude apart 10 samples after it %.1f deg, highest lowest corner 2-11 '
+                  'samples after it %.1f mm measured, %.1f mm simulated (medians of %d)'
+                  % ('on another face' if wrong else 'on the same face', e[0], e[1], e[2],
+                     e[3], len(err[wrong])))
     print('  tilt 3 -> 9 samples after the first impact (data, sim): runs, of them on another face')
     for key, (n, m) in sorted(trends.items()):
         print('    %-6s %-6s %3d %3d' % (key[0], key[1], n, m))
