@@ -1,8 +1,9 @@
 """The rocking impacts of the measured cube tosses, one by one, and where the simulated
-tosses that end on another face part from the real ones (doc/fitting.md#the-rocking-impacts-measured).
+tosses that end on another face part from the real ones
+(doc/fitting.md#the-rocking-impacts-measured, #the-tosses-that-end-on-another-face).
 
-A rocking impact: the cube turns on one edge (A, its two lowest corners on the surface, the
-turn about A's axis) and lands on the next (B, the opposite edge of the face coming down), as
+A rocking impact: the cube turns on one edge (A, the lower edge of its lowest face, the turn
+about A's axis) and lands on the next (B, the face's opposite edge, coming down), as
 Housner's rocking block. Each one found where |ω| falls by more than a quarter in one sample
 interval (as `fit impacts` counts the later impacts) is measured as the first impact is
 (sysid/impacts.py): the velocities over the sample interval before and the one after, the
@@ -143,7 +144,9 @@ def down_face(q):
 def parting(runs, sims, threshold=40.0):
     """The runs whose simulation ends on another face than the real cube (final rotation error
     above `threshold` degrees), each with the sample where the two part for good (rotation error
-    above 15 deg from there on) and what each cube was doing in the 4 samples before it."""
+    above 15 deg from there on) and what each cube was doing there: its impacts before, those
+    within 6 samples of it, |ω|, its tilt, the largest tilt in the next 30 samples (45 deg:
+    over an edge) and whether it turns about an edge of its lowest face."""
     rows = []
     for run, sim in zip(runs, sims):
         if not sim['ok']:
@@ -282,8 +285,8 @@ def tilt_of(q):
 
 def print_parting(rows):
     print('runs ending on another face: %d' % len(rows))
-    print('  run  part(sample)  final  | data: drops, tilt, max tilt next 30, |w|, on edge '
-          '| sim: the same')
+    print('  run  part(sample)  final  | data: impacts before, tilt, max tilt next 30 (45: over '
+          'an edge), |w|, on an edge | sim: the same')
     for r in rows:
         d, s = r['data'], r['sim']
         print('  %s %4d %5.0f deg | %d %4.0f %4.0f %5.1f %d | %d %4.0f %4.0f %5.1f %d | drops near '
