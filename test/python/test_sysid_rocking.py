@@ -110,3 +110,18 @@ def test_each_run_at_its_own_best_grid_point_recovers_the_runs_it_came_from():
                                                 {'mu': [0.2, 0.3]})
     assert pos < 1e-12 and rot < 1e-9
     assert pos1 > 0.01
+
+
+def test_a_bad_grid_is_refused_by_name(capsys):
+    # Truth: argparse's refusal (exit status 2) with the option, the field and the rule.
+    data = os.path.dirname(URDF)
+    for grid, message in (('mu=abc', "--grid 'mu=abc': expected NAME=V1/V2"),
+                          ('mu=-0.1/0.2', '--grid: mu: -0.1 is not physical'),
+                          ('foo=1', '--grid: foo: unknown parameter')):
+        with pytest.raises(SystemExit) as e:
+            impacts.main([data, '--sim', 'mu=0.2', '--grid', grid])
+        assert e.value.code == 2
+        assert message in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        impacts.main([data, '--grid', 'mu=0.2'])
+    assert '--grid needs --sim' in capsys.readouterr().err

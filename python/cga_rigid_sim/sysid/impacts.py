@@ -257,6 +257,20 @@ def main(argv=None):
                     help='with --sim: score each run at the grid point best for it alone and '
                          'all at the one best point (the other parameters from --sim)')
     args = ap.parse_args(argv)
+    if args.grid:
+        if not args.sim:
+            ap.error('--grid needs --sim (the other parameters)')
+        try:
+            grid = {k: [float(x) for x in v.split('/')] for k, v in
+                    (p.split('=') for p in args.grid.split(','))}
+        except ValueError:
+            ap.error('--grid %r: expected NAME=V1/V2/...,... (numbers)' % args.grid)
+        for name, values in grid.items():
+            for v in values:
+                try:
+                    model.check_value(name, v)
+                except model.ParameterError as e:
+                    ap.error('--grid: %s' % e)
     global HALF, MASS, INERTIA
     urdf = open(args.urdf or os.path.join(args.data, 'cube.urdf')).read()
     HALF, MASS, INERTIA = read_cube(urdf)
@@ -324,8 +338,7 @@ def main(argv=None):
     if sims is not None:
         later(runs, sims)
         if args.grid:
-            per_run_best(urdf, runs, params, {k: [float(x) for x in v.split('/')] for k, v in
-                                              (p.split('=') for p in args.grid.split(','))})
+            per_run_best(urdf, runs, params, grid)
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
             if opt:
                 a, b, n = opt.split(',')
