@@ -87,6 +87,28 @@ def test_the_fit_recovers_the_parameters_of_simulated_runs():
     assert res['train']['position'] < 0.005 and res['train']['rotation_deg'] < 1.0
 
 
+def test_a_start_at_the_truth_ends_the_search_there():
+    # Truth: at the parameters that made the runs the objective is 0, its minimum; a search
+    # that also starts there (--start, e.g. measured values) keeps it: the same values to
+    # round-off (the start passes through the search's scaled coordinates and back, 1e-16) and
+    # errors of 0 to round-off (1e-12). A start outside the ranges or missing a free parameter is refused
+    # by name.
+    truth = {'mu': 0.3, 'restitution': 0.1, 'height': -0.001}
+    urdf, runs = synthetic_runs(truth, n=2)
+    problem = fit.Problem({'mu': (0.1, 0.5), 'height': (-0.003, 0.001)},
+                          fixed={'restitution': 0.1})
+    assert problem.params(problem.scaled(truth)) == pytest.approx(truth, abs=1e-15)
+    with Runner(urdf, 'body', runs, 1 / (RATE * STEPS), SIZE, use_dask=False) as r:
+        res = fit.fit(r, range(len(runs)), problem, initial=2, max_evaluations=12,
+                      starts=[{'mu': 0.3, 'height': -0.001}])
+    assert res['train']['objective'] < 1e-12
+    assert res['params'] == pytest.approx(truth, abs=1e-15)
+    with pytest.raises(ValueError, match='mu=0.6 is outside its range 0.1:0.5'):
+        problem.scaled({'mu': 0.6, 'height': 0.0})
+    with pytest.raises(ValueError, match='height is not given'):
+        problem.scaled({'mu': 0.3})
+
+
 def test_dask_on_two_workers_gives_the_in_process_numbers():
     # Truth: each simulation is deterministic and the results are put back in order, so a
     # LocalCluster of two workers returns exactly the in-process numbers, including a run that

@@ -145,3 +145,14 @@ def test_the_command_refuses_bad_input_with_status_2(tmp_path, capsys):
     rc = cli.main(['eval', os.path.join(DATA, '000.csv'), '--urdf',
                    os.path.join(DATA, 'cube.urdf'), '--set', 'mu=-1', '--no-dask'])
     assert rc == 2 and 'mu: -1 is not physical' in capsys.readouterr().err
+
+
+def test_a_start_outside_the_ranges_or_missing_a_parameter_is_refused(capsys):
+    from cga_rigid_sim.sysid import cli
+    common = ['cv', os.path.join(DATA, '000.csv'), '--urdf', os.path.join(DATA, 'cube.urdf'),
+              '--model', 'a:mu=0.1:0.3,height=-0.003:0', '--no-dask']
+    for start, rule in (('mu=0.5,height=0', 'mu=0.5 is outside its range 0.1:0.3'),
+                        ('mu=0.2', 'height is not given'),
+                        ('mu', "--start 'mu': expected NAME=VALUE")):
+        assert cli.main(common + ['--start', start]) == 2
+        assert rule in capsys.readouterr().err

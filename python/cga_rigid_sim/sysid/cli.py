@@ -86,6 +86,24 @@ def setup(args):
     return urdf_text, body, size, runs, runner
 
 
+def starts(texts, problem, name):
+    """The --start points of a model: each NAME=VALUE,... with every free parameter in range
+    (values of parameters the model holds fixed or lacks are left out)."""
+    out = []
+    for text in texts:
+        try:
+            p = {k: float(v) for k, v in (x.split('=') for x in text.split(','))}
+        except ValueError:
+            raise InputError('--start %r: expected NAME=VALUE,...' % text) from None
+        point = {k: v for k, v in p.items() if k in problem.free}
+        try:
+            problem.scaled(point, '--start (model %s)' % name)
+        except ValueError as e:
+            raise InputError(str(e)) from None
+        out.append(point)
+    return out
+
+
 def cmd_cv(args):
     models = []
     for spec in args.model:
@@ -95,6 +113,8 @@ def cmd_cv(args):
         models.append((name, model.parse_ranges(ranges)))
     if not models:
         raise InputError('cv: give at least one --model NAME:RANGES')
+    for name, ranges in models:  # refused before any simulation
+        starts(args.start, fitting.Problem(ranges), name)
     urdf_text, body, size, runs, runner = setup(args)
     log = (lambda s: print(s, flush=True)) if args.verbose else None
     summary = {'data': ' '.join(args.data), 'runs': len(runs), 'urdf': args.urdf, 'body': body,
@@ -114,7 +134,8 @@ def cmd_cv(args):
                 print('fit: model %s, fold %d: fitting on %d runs, testing on %d'
                       % (name, f, len(train), len(test)), flush=True)
                 res = fitting.fit(runner, train, problem, initial=args.initial,
-                                  max_evaluations=args.max_evaluations, log=log)
+                                  max_evaluations=args.max_evaluations, log=log,
+                                  starts=starts(args.start, problem, name))
                 test_res = model.simulate_runs(urdf_text, body, [runs[k] for k in test],
                                                res['params'], runner.dt, size, args.integrator,
                                                threads=0, keep_poses=True)
@@ -262,6 +283,9 @@ def parser():
     s.add_argument('--folds', type=int, default=2)
     s.add_argument('--initial', type=int, default=16, help='Sobol points to start from')
     s.add_argument('--max-evaluations', type=int, default=80)
+    s.add_argument('--start', action='append', default=[], metavar='NAME=VALUE,...',
+                   help='a point the search also starts from (e.g. measured values): every free '
+                        'parameter of each model, in its range; may be given several times')
     s.add_argument('--sensitivity', action='store_true',
                    help='profile the objective about each optimum (fold 0)')
     s.add_argument('--out', help='report directory (report.md, results.json, plots)')

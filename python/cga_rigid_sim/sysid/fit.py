@@ -6,7 +6,8 @@ doc/fitting.md, so that neither dominates by its unit. A run whose simulation fa
 e_pos = 1, e_rot = 90° (and is reported with its parameters).
 
 Search (deterministic: the same data give the same fit, on any number of workers):
-1. a scrambled Sobol sequence of `initial` points over the ranges (scipy's, seed 0);
+1. a scrambled Sobol sequence of `initial` points over the ranges (scipy's, seed 0), and the
+   `starts` given (e.g. measured values; in the ranges);
 2. a compass (pattern) search from the best of them, in coordinates scaled to the ranges
    (logarithmically for a range from lo > 0 over at least a factor 30):
    each iteration evaluates the 2d neighbours x ± s e_i together (one batch of tasks), moves to
@@ -61,10 +62,27 @@ class Problem:
         p.update({n: float(v) for n, v in zip(self.free, x)})
         return p
 
+    def scaled(self, params, what='start'):
+        """The scaled coordinates u of a point (the inverse of params()); each free parameter
+        must be given, within its range."""
+        u = np.zeros(len(self.free))
+        for i, n in enumerate(self.free):
+            if n not in params:
+                raise ValueError('%s: %s is not given (the free parameters: %s)'
+                                 % (what, n, ', '.join(self.free)))
+            x = float(params[n])
+            if not self.lo[i] <= x <= self.hi[i]:
+                raise ValueError('%s: %s=%g is outside its range %g:%g'
+                                 % (what, n, x, self.lo[i], self.hi[i]))
+            u[i] = (math.log(x / self.lo[i]) / math.log(self.hi[i] / self.lo[i]) if self.log[i]
+                    else (x - self.lo[i]) / (self.hi[i] - self.lo[i]))
+        return u
+
 
 def fit(runner, indices, problem, initial=16, max_evaluations=80, tolerance=1.0 / 64,
-        log=None):
-    """Fits on runs[indices]; returns the best parameters, their errors and the history."""
+        log=None, starts=()):
+    """Fits on runs[indices]; returns the best parameters, their errors and the history.
+    `starts`: points (dicts of every free parameter) evaluated with the Sobol points."""
     history = []
     d = len(problem.free)
 
@@ -87,8 +105,8 @@ def fit(runner, indices, problem, initial=16, max_evaluations=80, tolerance=1.0 
         return {'params': p, 'train': a, 'evaluations': 1, 'history': history}
     from scipy.stats import qmc
     sobol = qmc.Sobol(d, scramble=True, seed=0)
-    start = sobol.random(max(2, initial))
-    scored = evaluate(list(start))
+    start = list(sobol.random(max(2, initial))) + [problem.scaled(p) for p in starts]
+    scored = evaluate(start)
     best = min(scored, key=lambda s: (s[0], tuple(s[1])))
     step = 0.25
     while step >= tolerance and len(history) < max_evaluations:

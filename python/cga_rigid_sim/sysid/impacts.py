@@ -17,7 +17,8 @@ With --sim the same quantities are measured on simulated poses from the same sta
 parameters, inertia_scale included; the point-impulse prediction uses the URDF's inertia), and
 after the first impact: the angle turned in 0.4 s, what |ω| keeps where it drops (and how often
 it turns back), and when the cube lies flat. --perturb W,V,N and --scatter MU,E,N count the runs
-whose simulation ends on another face when the starts, or each run's μ and e, are drawn afresh.
+whose simulation ends on another face when the starts, or each run's μ and e, are drawn afresh;
+--grid scores each run at the grid point best for it alone. --rocking: sysid/rocking.py.
 """
 import argparse
 import copy
@@ -29,7 +30,7 @@ import sys
 
 import numpy as np
 
-from . import model, scoring, trajectories
+from . import model, rocking, scoring, trajectories
 
 RATE = 148.0
 POST = 2
@@ -114,7 +115,9 @@ def measure(positions, quats, st, height):
     # The tilt: the angle of the body axis nearest the vertical from it.
     R = np.array([scoring.quat_rotate(q_pre, e) for e in np.eye(3)])
     tilt = math.degrees(math.acos(min(1.0, np.abs(R[:, 2]).max())))
+    corner = int(np.argmin(corners_world(quats[k + 1], positions[k + 1])[:, 2]))
     out = {'k': k, 'kind': kind, 'tilt_deg': tilt, 'v_pre': v_pre, 'v_post': v_post,
+           'corner': corner, 'place': positions[k][:2],
            'w_pre': w_pre, 'w_post': w_post, 'r': r, 'P': P, 'dw': dw, 'dw_point': dw_point,
            'un_pre': float(u_pre @ n), 'un_post': float(u_post @ n),
            'ut_pre': float(np.linalg.norm(u_pre[:2])), 'ut_post': float(np.linalg.norm(u_post[:2])),
@@ -208,6 +211,30 @@ def face_changes(urdf, runs, nominal, params, draws, perturb=None, scatter=None)
                                                                      for a in nominal]))))
 
 
+def per_run_best(urdf, runs, params, grid):
+    """Each run scored at the point of `grid` (name -> values, every combination, the other
+    parameters from `params`) best for that run alone (J of fit.py), against the one point
+    best for all: what choosing the parameters toss by toss would reach (an optimistic bound:
+    each run picks the best of the grid)."""
+    import itertools
+    names = sorted(grid)
+    pos, rot = [], []
+    for values in itertools.product(*(grid[n] for n in names)):
+        p = dict(params, **dict(zip(names, values)))
+        res = model.simulate_runs(urdf, 'body', runs, p, 1.0 / (RATE * 7), 2 * HALF, threads=0)
+        pos.append([r['position'] if r['ok'] else 1.0 for r in res])
+        rot.append([math.degrees(r['rotation']) if r['ok'] else 90.0 for r in res])
+    pos, rot = np.array(pos), np.array(rot)
+    J = pos / 0.10 + rot / 15.0
+    each, one = J.argmin(0), J.mean(1).argmin()
+    i = np.arange(len(runs))
+    out = (pos[each, i].mean(), rot[each, i].mean(), pos[one].mean(), rot[one].mean())
+    print('grid of %d points (%s): each run at its own best %.1f %%, %.1f deg; all at the one '
+          'best point %.1f %%, %.1f deg' % (len(J), ', '.join(names), 100 * out[0], out[1],
+                                          100 * out[2], out[3]))
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog='fit impacts', description=__doc__.split('\n\n')[0])
     ap.add_argument('data')
@@ -222,7 +249,28 @@ def main(argv=None):
     ap.add_argument('--scatter', default=None, metavar='MU,E,N',
                     help='with --sim: draw μ (relative standard deviation MU) and e (standard '
                          'deviation E) afresh for each run, N times, and count the same')
+    ap.add_argument('--rocking', action='store_true',
+                    help='also measure the rocking impacts (an edge landing after a turn on the '
+                         'next edge) and, with --sim, where the runs ending on another face part '
+                         '(sysid/rocking.py)')
+    ap.add_argument('--grid', default=None, metavar='NAME=V1/V2/...,...',
+                    help='with --sim: score each run at the grid point best for it alone and '
+                         'all at the one best point (the other parameters from --sim)')
     args = ap.parse_args(argv)
+    if args.grid:
+        if not args.sim:
+            ap.error('--grid needs --sim (the other parameters)')
+        try:
+            grid = {k: [float(x) for x in v.split('/')] for k, v in
+                    (p.split('=') for p in args.grid.split(','))}
+        except ValueError:
+            ap.error('--grid %r: expected NAME=V1/V2/...,... (numbers)' % args.grid)
+        for name, values in grid.items():
+            for v in values:
+                try:
+                    model.check_value(name, v)
+                except model.ParameterError as e:
+                    ap.error('--grid: %s' % e)
     global HALF, MASS, INERTIA
     urdf = open(args.urdf or os.path.join(args.data, 'cube.urdf')).read()
     HALF, MASS, INERTIA = read_cube(urdf)
@@ -271,8 +319,26 @@ def main(argv=None):
             print('  %-56s %6.3f [%6.3f %6.3f]' % (name, *q))
     summary('data')
     summary('sim')
+    if args.rocking:
+        for side in ('data', 'sim') if sims is not None else ('data',):
+            found = []
+            for i, run in enumerate(runs):
+                if side == 'data':
+                    found += rocking.rocking_impacts(run.position, run.quaternion)
+                elif sims[i]['ok']:
+                    found += rocking.rocking_impacts(sims[i]['poses'][:, :3],
+                                                     sims[i]['poses'][:, 3:])
+            rocking.summarize_rocking(side, found)
+        rocking.predictability(rows)
+        if sims is not None:
+            rocking.print_parting(rocking.parting(runs, sims))
+            first = [measure(r.position, r.quaternion, r.start, args.height) for r in runs]
+            rocking.compare_after_first_impact(runs, sims,
+                                               [m['k'] if m else None for m in first])
     if sims is not None:
         later(runs, sims)
+        if args.grid:
+            per_run_best(urdf, runs, params, grid)
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
             if opt:
                 a, b, n = opt.split(',')
