@@ -81,8 +81,10 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
   switch (s.kind) {
     case Shape::Kind::kBox: {
       out.margin = marginOf(s.size.minCoeff());
-      out.geometry =
-          std::make_shared<fcl::Boxd>(s.size + Eigen::Vector3d::Constant(2 * out.margin));
+      auto box = std::make_shared<fcl::Boxd>(s.size + Eigen::Vector3d::Constant(2 * out.margin));
+      out.convex = CollisionCache::Shape::Convex::kBox;
+      for (int k = 0; k < 3; ++k) out.extent[k] = box->side[k] / 2.0;
+      out.geometry = box;
       const Eigen::Vector3d h = 0.5 * s.size;
       for (int k = 0; k < 8; ++k)
         out.vertices_S.emplace_back(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(),
@@ -93,14 +95,21 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
     case Shape::Kind::kSphere:
       out.margin = marginOf(2 * s.radius);
       out.geometry = std::make_shared<fcl::Sphered>(s.radius + out.margin);
+      out.convex = CollisionCache::Shape::Convex::kSphere;
+      out.extent[0] = static_cast<const fcl::Sphered&>(*out.geometry).radius;
       out.bound = s.radius;
       break;
-    case Shape::Kind::kCylinder:
+    case Shape::Kind::kCylinder: {
       out.margin = marginOf(std::min(2 * s.radius, s.length));
-      out.geometry =
+      auto cylinder =
           std::make_shared<fcl::Cylinderd>(s.radius + out.margin, s.length + 2 * out.margin);
+      out.convex = CollisionCache::Shape::Convex::kCylinder;
+      out.extent[0] = cylinder->radius;
+      out.extent[1] = cylinder->lz / 2;
+      out.geometry = cylinder;
       out.bound = std::hypot(s.radius, 0.5 * s.length);
       break;
+    }
     case Shape::Kind::kMesh:
       makeMeshShape(s, out);
       break;

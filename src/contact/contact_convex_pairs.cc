@@ -1,12 +1,14 @@
-// The narrow phase of two convex hulls (doc/contacts.md#detection): libccd's Minkowski Portal
-// Refinement, as FCL runs it for two Convex shapes (its GJKSolver_libccd: the same support and
-// interior points, tolerance and iteration bound), called here directly so that a step does
-// not allocate. FCL's Convex allocates its visit marks on every support query and FCL a libccd
-// object per shape on every pair; here the marks live in the hull and the objects on the stack.
+// The narrow phase of a mesh's hull and a hull, box, sphere or cylinder
+// (doc/contacts.md#detection): libccd's Minkowski Portal Refinement, as FCL runs it for a Convex
+// and those shapes (its GJKSolver_libccd: the same support and interior points, tolerance and
+// iteration bound), called here directly so that a step does not allocate. FCL's Convex
+// allocates its visit marks on every support query and FCL a libccd object per shape on every
+// pair; here the marks live in the hull and the objects on the stack.
 #include <ccd/ccd.h>
 #include <ccd/quat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "contact/contact_detection_internals.h"
@@ -22,16 +24,16 @@ constexpr std::size_t kWalkFromVertices = 32;
 constexpr double kMprTolerance = 1e-6;
 constexpr unsigned long kMprIterations = 500;
 
-// A hull placed in the world, in libccd's terms.
-struct PlacedHull {
-  CollisionCache::Hull* hull;
+// A shape placed in the world, in libccd's terms.
+struct Placed {
+  CollisionCache::Shape* shape;
   ccd_vec3_t position;
   ccd_quat_t rotation, inverse;
 };
 
-PlacedHull place(CollisionCache::Hull& hull, const Eigen::Isometry3d& M_WS) {
-  PlacedHull p;
-  p.hull = &hull;
+Placed place(CollisionCache::Shape& shape, const Eigen::Isometry3d& M_WS) {
+  Placed p;
+  p.shape = &shape;
   const Eigen::Quaterniond q(M_WS.linear());
   const Eigen::Vector3d& t = M_WS.translation();
   ccdVec3Set(&p.position, t.x(), t.y(), t.z());
@@ -81,20 +83,59 @@ const Eigen::Vector3d& extremeVertex(CollisionCache::Hull& h, const Eigen::Vecto
   return v[best];
 }
 
+// The shape's point farthest along d (shape frame) into `out`: a box's corner on the side of
+// each component (a zero one counts as positive, so the point is always a corner), a sphere's
+// point along d, a cylinder's rim point (the axis' end when d is along the axis), a hull's vertex.
+void supportInShape(CollisionCache::Shape& s, const ccd_vec3_t& d, ccd_vec3_t* out) {
+  using Convex = CollisionCache::Shape::Convex;
+  const double* e = s.extent;
+  switch (s.convex) {
+    case Convex::kBox: {
+      const auto side = [](double x) { return x >= 0 ? 1.0 : -1.0; };
+      ccdVec3Set(out, side(d.v[0]) * e[0], side(d.v[1]) * e[1], side(d.v[2]) * e[2]);
+      return;
+    }
+    case Convex::kSphere:
+      ccdVec3Copy(out, &d);
+      ccdVec3Scale(out, e[0]);
+      ccdVec3Scale(out, CCD_ONE / CCD_SQRT(ccdVec3Len2(&d)));
+      return;
+    case Convex::kCylinder: {
+      const double across = std::sqrt(d.v[0] * d.v[0] + d.v[1] * d.v[1]);
+      if (ccdIsZero(across)) {
+        ccdVec3Set(out, 0.0, 0.0, ccdSign(d.v[2]) * e[1]);
+      } else {
+        const double r = e[0] / across;
+        ccdVec3Set(out, r * d.v[0], r * d.v[1], ccdSign(d.v[2]) * e[1]);
+      }
+      return;
+    }
+    case Convex::kHull: {
+      const Eigen::Vector3d& v = extremeVertex(*s.hull, Eigen::Vector3d(d.v[0], d.v[1], d.v[2]));
+      ccdVec3Set(out, v.x(), v.y(), v.z());
+      return;
+    }
+  }
+}
+
 void support(const void* object, const ccd_vec3_t* direction_W, ccd_vec3_t* out) {
-  const auto* p = static_cast<const PlacedHull*>(object);
+  const auto* p = static_cast<const Placed*>(object);
   ccd_vec3_t d;
   ccdVec3Copy(&d, direction_W);
   ccdQuatRotVec(&d, &p->inverse);
-  const Eigen::Vector3d& e = extremeVertex(*p->hull, Eigen::Vector3d(d.v[0], d.v[1], d.v[2]));
-  ccdVec3Set(out, e.x(), e.y(), e.z());
+  supportInShape(*p->shape, d, out);
   ccdQuatRotVec(out, &p->rotation);
   ccdVec3Add(out, &p->position);
 }
 
+// MPR's interior point: a hull's vertices' mean, placed; a primitive's centre.
 void interior(const void* object, ccd_vec3_t* out) {
-  const auto* p = static_cast<const PlacedHull*>(object);
-  const Eigen::Vector3d& c = p->hull->interior;
+  const auto* p = static_cast<const Placed*>(object);
+  if (p->shape->convex != CollisionCache::Shape::Convex::kHull) {
+    ccdVec3Copy(out, &p->position);
+    return;
+  }
+  const Eigen::Vector3d& c = p->shape->hull->interior;
   ccdVec3Set(out, c.x(), c.y(), c.z());
   ccdQuatRotVec(out, &p->rotation);
   ccdVec3Add(out, &p->position);
@@ -133,10 +174,10 @@ std::shared_ptr<CollisionCache::Hull> makeHull(
   return h;
 }
 
-bool hullPairContact(CollisionCache::Hull& a, const Eigen::Isometry3d& M_WA,
-                     CollisionCache::Hull& b, const Eigen::Isometry3d& M_WB,
-                     Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth) {
-  const PlacedHull pa = place(a, M_WA), pb = place(b, M_WB);
+bool convexPairContact(CollisionCache::Shape& a, const Eigen::Isometry3d& M_WA,
+                       CollisionCache::Shape& b, const Eigen::Isometry3d& M_WB,
+                       Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth) {
+  const Placed pa = place(a, M_WA), pb = place(b, M_WB);
   ccd_t ccd;
   CCD_INIT(&ccd);
   ccd.support1 = &support;

@@ -6,9 +6,9 @@
 //   contact_collision_cache.cc   the cache: its shapes, made once per topology
 //   contact_detection.cc         detectContacts: the broad phase (sort and sweep)
 //   contact_ground_plane.cc      the ground plane against each shape's points
-//   contact_shape_pairs.cc       every other pair: two hulls by contact_convex_pairs.cc, the
-//                                rest through FCL
-//   contact_convex_pairs.cc      two convex hulls through libccd's MPR, allocation-free
+//   contact_shape_pairs.cc       every other pair: a hull and a hull, box, sphere or cylinder
+//                                by contact_convex_pairs.cc, the rest through FCL
+//   contact_convex_pairs.cc      those pairs through libccd's MPR, allocation-free
 //   contact_overlap_warnings.cc  the overlaps a World reports when it is created
 #pragma once
 
@@ -53,6 +53,12 @@ class CollisionCache {
     /// The FCL geometry is this much larger on every side (0 for meshes), so that bodies
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
+    /// The shape as MPR sees it (contact_convex_pairs.cc): a mesh's hull, or the inflated box,
+    /// sphere or cylinder of `geometry` (box: half sides; sphere: radius; cylinder: radius and
+    /// half length), read from it so that both see the same numbers.
+    enum class Convex { kHull, kBox, kSphere, kCylinder };
+    Convex convex = Convex::kHull;
+    double extent[3] = {0.0, 0.0, 0.0};
     std::shared_ptr<Hull> hull;  ///< meshes only
   };
   /// A shape's bounding sphere in the sweep: its extent along x, and its centre's y and z and
@@ -117,13 +123,14 @@ std::shared_ptr<CollisionCache::Hull> makeHull(
     std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices, const std::vector<int>& faces,
     int face_count);
 
-/// Two hulls placed at M_WA and M_WB: whether they overlap and, if so, the deepest point, the
-/// normal from a to b and the depth of their overlap, as FCL's narrow phase for two Convex
-/// shapes gives them (libccd's MPR, FCL's tolerance and iteration bound), without allocating
+/// Two shapes placed at M_WA and M_WB, at least one a hull: whether they overlap and, if so,
+/// the deepest point, the normal from a to b and the depth of their overlap, as FCL's narrow
+/// phase gives them for a Convex and a Convex, Box, Sphere or Cylinder (libccd's MPR on the same
+/// support and interior points, FCL's tolerance and iteration bound), without allocating
 /// (contact_convex_pairs.cc).
-bool hullPairContact(CollisionCache::Hull& a, const Eigen::Isometry3d& M_WA,
-                     CollisionCache::Hull& b, const Eigen::Isometry3d& M_WB,
-                     Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth);
+bool convexPairContact(CollisionCache::Shape& a, const Eigen::Isometry3d& M_WA,
+                       CollisionCache::Shape& b, const Eigen::Isometry3d& M_WB,
+                       Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth);
 
 /// Appends the contacts of shapes s1 (side a) and s2 (side b) at their placed poses
 /// (contact_shape_pairs.cc).

@@ -1,6 +1,6 @@
-// The narrow phase of two shapes (doc/contacts.md#detection): two meshes as their convex hulls
-// (contact_convex_pairs.cc), every other pair through FCL, where box–box gives the full face
-// manifold (up to four points) and the shapes' speculative margins are taken off FCL's depth.
+// The narrow phase of two shapes (doc/contacts.md#detection): a mesh (its convex hull) and any
+// shape by contact_convex_pairs.cc, every other pair through FCL, where box–box gives the full
+// face manifold (up to four points); the shapes' speculative margins are taken off the depth.
 #include <fcl/narrowphase/collision.h>
 
 #include <cmath>
@@ -31,11 +31,11 @@ void pairContacts(const Model& model, CollisionCache& cache, int s1, int s2,
     combineSurfaces(model, sa.surface, sb.surface, k);
     out.push_back(k);
   };
-  if (A.hull && B.hull) {
+  if (A.hull || B.hull) {
     Eigen::Vector3d point_W, normal_ab;
     double depth;
-    if (hullPairContact(*A.hull, cache.pose_W[s1], *B.hull, cache.pose_W[s2], point_W, normal_ab,
-                        depth))
+    if (convexPairContact(cache.shapes[s1], cache.pose_W[s1], cache.shapes[s2], cache.pose_W[s2],
+                          point_W, normal_ab, depth))
       add(point_W, normal_ab, depth);
     return;
   }

@@ -1,7 +1,11 @@
-// Two convex hulls' narrow phase (src/contact/contact_convex_pairs.cc) against FCL's for the same
-// two Convex shapes, which it replaces: the same algorithm (libccd's MPR) on the same support and
-// interior points, so the same answer to the last bit; and it allocates nothing.
+// The narrow phase of a hull and a hull, box, sphere or cylinder
+// (src/contact/contact_convex_pairs.cc) against FCL's for the same shapes, which it replaces: the
+// same algorithm (libccd's MPR) on the same support and interior points, so the same answer to the
+// last bit.
+#include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 #include <gtest/gtest.h>
 
@@ -15,15 +19,17 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace convex_pairs_test {
 
-struct TestHull {
-  std::shared_ptr<fcl::Convexd> fcl;
-  std::shared_ptr<CollisionCache::Hull> ours;
+using Convex = CollisionCache::Shape::Convex;
+
+struct TestShape {
+  std::shared_ptr<fcl::CollisionGeometryd> fcl;
+  CollisionCache::Shape ours;
   double bound = 0;
 };
 
 // The convex hull of n points on an ellipsoid of semi-axes r (a mesh's hull: many vertices, so
 // the support is found by walking the vertex graph), or of a few (searched whole).
-TestHull makeTestHull(int n, const Eigen::Vector3d& r, unsigned seed) {
+TestShape makeTestHull(int n, const Eigen::Vector3d& r, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g;
   std::vector<Eigen::Vector3d> points;
@@ -34,11 +40,39 @@ TestHull makeTestHull(int n, const Eigen::Vector3d& r, unsigned seed) {
   auto faces = std::make_shared<std::vector<int>>();
   for (const auto& t : hull.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
   const int count = static_cast<int>(hull.triangles.size());
-  TestHull h;
+  TestShape h;
   h.fcl = std::make_shared<fcl::Convexd>(vertices, count, faces);
-  h.ours = detail::makeHull(vertices, *faces, count);
+  h.ours.hull = detail::makeHull(vertices, *faces, count);
   h.bound = r.maxCoeff();
   return h;
+}
+
+TestShape makeTestBox(const Eigen::Vector3d& side) {
+  TestShape b;
+  b.fcl = std::make_shared<fcl::Boxd>(side);
+  b.ours.convex = Convex::kBox;
+  for (int k = 0; k < 3; ++k) b.ours.extent[k] = side[k] / 2.0;
+  b.bound = 0.5 * side.norm();
+  return b;
+}
+
+TestShape makeTestSphere(double radius) {
+  TestShape s;
+  s.fcl = std::make_shared<fcl::Sphered>(radius);
+  s.ours.convex = Convex::kSphere;
+  s.ours.extent[0] = radius;
+  s.bound = radius;
+  return s;
+}
+
+TestShape makeTestCylinder(double radius, double length) {
+  TestShape c;
+  c.fcl = std::make_shared<fcl::Cylinderd>(radius, length);
+  c.ours.convex = Convex::kCylinder;
+  c.ours.extent[0] = radius;
+  c.ours.extent[1] = length / 2;
+  c.bound = std::hypot(radius, 0.5 * length);
+  return c;
 }
 
 Eigen::Isometry3d randomPose(std::mt19937& rng, double spread) {
@@ -50,19 +84,24 @@ Eigen::Isometry3d randomPose(std::mt19937& rng, double spread) {
 }
 
 // Truth: FCL's own narrow phase (fcl::collide, libccd's MPR through GJKSolver_libccd) on the same
-// hulls and poses. Hulls of 200 and 12 points (walked and searched whole), 3000 poses of each pair
-// with the centres within reach: the same verdict in every one, and point, normal and depth equal
-// to the last bit (one algorithm, one arithmetic: any difference would be a different support
-// point).
+// shapes and poses. Hulls of 200 and 12 points (walked and searched whole) against each other and
+// against a box, a sphere and a cylinder, 3000 poses of each pair with the centres within reach
+// (a hull's pairs both ways round): the same verdict in every one, and point, normal and depth
+// equal to the last bit (one algorithm, one arithmetic: any difference would be a different
+// support point).
 TEST(ConvexPairs, SameContactsAsFclToTheLastBit) {
-  const TestHull big = makeTestHull(200, {0.12, 0.07, 0.05}, 1);
-  const TestHull small = makeTestHull(12, {0.04, 0.04, 0.03}, 2);
-  ASSERT_GT(big.ours->vertices->size(), 32u);
-  ASSERT_LE(small.ours->vertices->size(), 32u);
+  TestShape big = makeTestHull(200, {0.12, 0.07, 0.05}, 1);
+  TestShape small = makeTestHull(12, {0.04, 0.04, 0.03}, 2);
+  TestShape box = makeTestBox({0.1, 0.06, 0.2});
+  TestShape sphere = makeTestSphere(0.05);
+  TestShape cylinder = makeTestCylinder(0.03, 0.15);
+  ASSERT_GT(big.ours.hull->vertices->size(), 32u);
+  ASSERT_LE(small.ours.hull->vertices->size(), 32u);
   std::mt19937 rng(3);
   int hits = 0, pairs = 0;
-  for (const TestHull* a : {&big, &small}) {
-    for (const TestHull* b : {&big, &small}) {
+  for (TestShape* a : {&big, &small, &box, &sphere, &cylinder}) {
+    for (TestShape* b : {&big, &small, &box, &sphere, &cylinder}) {
+      if (!a->ours.hull && !b->ours.hull) continue;  // two primitives stay with FCL
       for (int k = 0; k < 3000; ++k, ++pairs) {
         const Eigen::Isometry3d Ma = randomPose(rng, 0.7 * (a->bound + b->bound));
         const Eigen::Isometry3d Mb = randomPose(rng, 0.0);
@@ -71,19 +110,19 @@ TEST(ConvexPairs, SameContactsAsFclToTheLastBit) {
         fcl::collide(a->fcl.get(), Ma, b->fcl.get(), Mb, request, result);
         Eigen::Vector3d point, normal;
         double depth = 0;
-        const bool ours = detail::hullPairContact(*a->ours, Ma, *b->ours, Mb, point, normal, depth);
-        ASSERT_EQ(ours, result.isCollision()) << k;
+        const bool ours = detail::convexPairContact(a->ours, Ma, b->ours, Mb, point, normal, depth);
+        ASSERT_EQ(ours, result.isCollision()) << pairs;
         if (!ours) continue;
         ++hits;
         ASSERT_EQ(result.numContacts(), 1u);
         const fcl::Contactd& f = result.getContact(0);
-        EXPECT_EQ(point, f.pos) << k;
-        EXPECT_EQ(normal, f.normal) << k;
-        EXPECT_EQ(depth, f.penetration_depth) << k;
+        EXPECT_EQ(point, f.pos) << pairs;
+        EXPECT_EQ(normal, f.normal) << pairs;
+        EXPECT_EQ(depth, f.penetration_depth) << pairs;
       }
     }
   }
-  // Both verdicts are exercised (measured: 5595 of the 12 000 poses overlap).
+  // Both verdicts are exercised (measured: 24 482 of the 48 000 poses overlap).
   EXPECT_GT(hits, pairs / 5);
   EXPECT_LT(hits, pairs - pairs / 5);
 }
