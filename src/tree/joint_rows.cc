@@ -37,11 +37,12 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
       rows_.push_back({i, Kind::kUpper, (j.upper - q[k]) / h, 0.0});
   }
   if (rows_.empty()) return;
-  columns_.resize(rows_.size());
+  if (columns_.size() < rows_.size())
+    columns_.resize(rows_.size());  // never shrunk: no reallocation
   for (std::size_t r = 0; r < rows_.size(); ++r) {
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(nu_bar.size());
-    e[rows_[r].index] = 1.0;
-    columns_[r] = llt.solve(e);
+    columns_[r].setZero(nu_bar.size());
+    columns_[r][rows_[r].index] = 1.0;
+    llt.solveInPlace(columns_[r]);
   }
   const double scale = 1.0 + nu_bar.cwiseAbs().maxCoeff();
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
@@ -81,26 +82,41 @@ void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) 
   applyMimicPositions(tree, q);
 }
 
-void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu) {
-  const int m = static_cast<int>(held.size());
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
+               StopScratch& s) {
+  const int m = static_cast<int>(held.size()), n = static_cast<int>(nu.size());
   if (m == 0) return;
-  Eigen::MatrixXd AE(nu.size(), m), G(m, m);
-  Eigen::VectorXd v(m);
-  for (int c = 0; c < m; ++c) {
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(nu.size());
-    e[held[c]] = 1.0;
-    AE.col(c) = llt.solve(e);
-    v[c] = nu[held[c]];
+  // Sized for every coordinate held at once, the first time: m changes as joints reach and
+  // leave their stops, and the leading blocks of these serve every m without allocating.
+  if (s.AE.rows() != n) {
+    s.AE.resize(n, n);
+    s.G.resize(n, n);
+    s.e.resize(n);
+    s.v.resize(n);
+    s.dnu.resize(n);
   }
+  for (int c = 0; c < m; ++c) {
+    s.e.setZero();
+    s.e[held[c]] = 1.0;
+    llt.solveInPlace(s.e);
+    s.AE.col(c) = s.e;
+    s.v[c] = -nu[held[c]];
+  }
+  auto AE = s.AE.leftCols(m);
+  auto G = s.G.topLeftCorner(m, m);
   for (int r = 0; r < m; ++r) G.row(r) = AE.row(held[r]);
-  nu += AE * G.llt().solve(-v);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> G_llt(G);  // in place: G holds its factor after
+  auto z = s.v.head(m);
+  G_llt.solveInPlace(z);
+  s.dnu.noalias() = AE * z;
+  nu += s.dnu;
   for (int c = 0; c < m; ++c) nu[held[c]] = 0.0;  // exactly, not to round-off
 }
 
 bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
                          Eigen::VectorXd& nu) const {
   if (held_.empty()) return false;
-  stopRates(llt, held_, nu);
+  stopRates(llt, held_, nu, stop_);
   return true;
 }
 

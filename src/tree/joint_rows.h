@@ -27,7 +27,13 @@ namespace dynamics {
 /// that does it in the metric of M (llt: M's factor): ν ← ν + A E z, (Eᵀ A E) z = −Eᵀ ν, A = M⁻¹.
 /// An impulse on joints only: it keeps a floating tree's momentum and never raises the kinetic
 /// energy (a projection in the metric of M).
-void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu);
+/// `scratch`: stopRates' working storage, kept by its caller so that a step does not allocate.
+struct StopScratch {
+  Eigen::MatrixXd AE, G;
+  Eigen::VectorXd e, v, dnu;
+};
+void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
+               StopScratch& scratch);
 
 class JointRows {
  public:
@@ -75,6 +81,7 @@ class JointRows {
   std::vector<Row> rows_;
   std::vector<int> held_;
   std::vector<Eigen::VectorXd> columns_;
+  mutable StopScratch stop_;  // stopHeld's working storage
 };
 
 }  // namespace dynamics

@@ -138,7 +138,7 @@ class Explicit final : public TreeIntegrator {
       llt_.compute(mimic ? Mr_ : M_);
       setVelocity(tree, state, nu_);
       reduceVelocity(tree, nu_, nu_r_);
-      stopRates(llt_, held_, nu_r_);
+      stopRates(llt_, held_, nu_r_, stop_);
       expandVelocity(tree, nu_r_, nu_);
       setVelocityVector(tree, nu_, state);
     }
@@ -245,6 +245,7 @@ class Explicit final : public TreeIntegrator {
   Eigen::VectorXd stage_effort_;  // with servos: the effort at the last stage
   bool servoed_ = false;
   std::vector<int> held_;   // joints stopped at a limit in the last step
+  StopScratch stop_;        // stopRates' working storage
   Eigen::MatrixXd M_, Mr_;  // M, and M_r = Gᵀ M G with mimic joints
   Eigen::VectorXd nu_r_;
   tree_math::Cholesky llt_;
