@@ -42,6 +42,57 @@ void TreeNewton::resize(int m, int s, int n) {
   nv = n;
 }
 
+bool TreeNewton::factorHessian() {
+  const int n = nv;
+  inv_diag_.resize(n);
+  nz_.resize(static_cast<std::size_t>(n) * n);
+  nz_begin_.resize(n);
+  nz_count_.resize(n);
+  int used = 0;
+  for (int k = n - 1; k >= 0; --k) {
+    const double d = H_(k, k);
+    if (!(d > 0.0 && std::isfinite(d))) return false;
+    const double l = std::sqrt(d), inv = 1.0 / l;
+    H_(k, k) = l;
+    inv_diag_[k] = inv;
+    // Row k of L left of the diagonal: its nonzeros, scaled.
+    int* nz = nz_.data() + used;
+    int count = 0;
+    for (int j = 0; j < k; ++j) {
+      double& x = H_(k, j);
+      if (x == 0.0) continue;
+      x *= inv;
+      nz[count++] = j;
+    }
+    nz_begin_[k] = used;
+    nz_count_[k] = count;
+    used += count;
+    // H_ij −= L_ki L_kj over those pairs (i ≥ j: the lower triangle).
+    for (int a = 0; a < count; ++a) {
+      const int i = nz[a];
+      const double li = H_(k, i);
+      for (int b = 0; b <= a; ++b) H_(i, nz[b]) -= li * H_(k, nz[b]);
+    }
+  }
+  return true;
+}
+
+void TreeNewton::solveHessian(Eigen::VectorXd& x) const {
+  const int n = nv;
+  for (int i = n - 1; i >= 0; --i) {  // Lᵀ y = x, from the last coordinate in
+    const double y = x[i] * inv_diag_[i];
+    x[i] = y;
+    const int* nz = nz_.data() + nz_begin_[i];
+    for (int a = 0; a < nz_count_[i]; ++a) x[nz[a]] -= H_(i, nz[a]) * y;
+  }
+  for (int i = 0; i < n; ++i) {  // L z = y, from the first out
+    double z = x[i];
+    const int* nz = nz_.data() + nz_begin_[i];
+    for (int a = 0; a < nz_count_[i]; ++a) z -= H_(i, nz[a]) * x[nz[a]];
+    x[i] = z * inv_diag_[i];
+  }
+}
+
 double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature) const {
   double f = alpha * dMd + dMx, c = dMd;
   const int m = rows + n_single;
@@ -107,13 +158,11 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       }
       for (int j = 0; j < s; ++j)
         if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
-      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);  // in place: H_'s lower triangle is L
-      factored_ = llt.info() == Eigen::Success;
+      factored_ = factorHessian();
       if (!factored_) return -1;
     }
     delta_ = -grad_;
-    H_.triangularView<Eigen::Lower>().solveInPlace(delta_);
-    H_.triangularView<Eigen::Lower>().adjoint().solveInPlace(delta_);
+    solveHessian(delta_);
     // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
     // nondecreasing; its root by Newton steps kept inside a bracket.
     gd_.head(m).noalias() = G * delta_;
