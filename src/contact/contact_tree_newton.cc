@@ -10,7 +10,7 @@ namespace sim {
 namespace {
 
 // Trees with at most this many coordinates build the Hessian row by row over each row's
-// nonzeros (a stack array of their indices); larger ones by one dense rank update.
+// nonzeros (their indices found once per solve); larger ones by one dense rank update.
 constexpr int kSparseMax = 256;
 
 }  // namespace
@@ -139,12 +139,10 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       if (n <= kSparseMax) {
         // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
         // the joints between its link and the base (a foot: the base's six and its leg's).
-        int nz[kSparseMax];
         for (int i = 0; i < m; ++i) {
           if (!active_[i]) continue;
-          int k = 0;
-          for (int c = 0; c < n; ++c)
-            if (G(i, c) != 0.0) nz[k++] = c;
+          const int* nz = row_nz_.data() + row_nz_begin_[i];
+          const int k = row_nz_begin_[i + 1] - row_nz_begin_[i];
           for (int a = 0; a < k; ++a) {
             const double ga = D[i] * G(i, nz[a]);
             for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
@@ -208,6 +206,15 @@ int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eig
   const auto G = g.topLeftCorner(m, nv);
   int steps = 0;
   factored_ = false;  // a new M and new rows
+  // Each row's nonzero coordinates, for the Hessian's rebuilds in this solve.
+  row_nz_begin_.resize(m + 1);
+  row_nz_.clear();
+  for (int i = 0; i < m && nv <= kSparseMax; ++i) {
+    row_nz_begin_[i] = static_cast<int>(row_nz_.size());
+    for (int c = 0; c < nv; ++c)
+      if (G(i, c) != 0.0) row_nz_.push_back(c);
+  }
+  row_nz_begin_[m] = static_cast<int>(row_nz_.size());
   double last_missed = std::numeric_limits<double>::infinity();
   for (int round = 0; round < max_rounds; ++round) {
     // The targets shifted by the impulses so far: r_i + β_i / D_i.

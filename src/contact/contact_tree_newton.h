@@ -72,8 +72,11 @@ struct TreeNewton {
   void solveHessian(Eigen::VectorXd& x) const;
   Eigen::VectorXd inv_diag_;                   // 1 / L_kk
   std::vector<int> nz_, nz_begin_, nz_count_;  // per row k of L: the columns j < k it holds
-  std::vector<char> active_;                   // the rows active in H_'s factor
-  bool factored_ = false;                      // H_'s lower triangle holds the factor for active_
+  // Per row of g its nonzero columns (row i: row_nz_[row_nz_begin_[i]] up to
+  // row_nz_[row_nz_begin_[i + 1]]), found once per solve (trees of at most kSparseMax coordinates).
+  std::vector<int> row_nz_, row_nz_begin_;
+  std::vector<char> active_;  // the rows active in H_'s factor
+  bool factored_ = false;     // H_'s lower triangle holds the factor for active_
   // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it).
   double slope(double alpha, double dMd, double dMx, double* curvature) const;
 };
