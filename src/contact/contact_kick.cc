@@ -43,9 +43,7 @@ void kickMomentum(const Model& model, const MovingBodyData& b, const dynamics::I
 }
 
 // Whether a tree's kick is usable: its mass matrix factored and its kicked ν finite.
-bool kickFinite(const SolverTree& k) {
-  return k.llt.info() == Eigen::Success && k.nu.allFinite() && k.llt.matrixLLT().allFinite();
-}
+bool kickFinite(const SolverTree& k) { return k.factor.ok() && k.nu.allFinite(); }
 
 // Removes the contacts that touch a link (or the floating root) of tree t.
 void dropContactsOf(const Model& model, int t, std::vector<Contact>& found) {

@@ -99,6 +99,7 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     if (island_bias > st.correction * kExactCorrectionExcess / st.h &&
         correctTreePositions(st, trees, rows, work, I))
       continue;
+    detail::finishTreeResponses(trees, rows, work, I);
     for (int it = 0; it < st.position_iterations; ++it)
       if (detail::sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
         break;  // 0.1 % of the island's largest correction

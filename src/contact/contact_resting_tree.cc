@@ -55,7 +55,7 @@ void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu
   dnu.noalias() = N.g.topRows(N.rows).transpose() * N.beta.head(N.rows);
   for (int q = 0; q < N.n_single; ++q)
     dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
-  T.llt.solveInPlace(dnu);
+  T.factor.solveInPlace(dnu);
   T.nu = T.nu_start + dnu;
 }
 
@@ -86,8 +86,7 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
     const ContactRow& c = rows[k];
     double sign = 1;
     const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
-    const Eigen::Matrix<double, Eigen::Dynamic, 3>& W = c.ta == t ? c.wa : c.wb;
-    const Eigen::Matrix3d K = J * W;
+    const Eigen::Matrix3d& K = c.ta == t ? c.ka : c.kb;
     const auto addRow = [&](const Eigen::Vector3d& d) {
       N.g.row(i).noalias() = sign * d.transpose() * J;
       N.r[i] = c.target;
@@ -223,7 +222,7 @@ bool correctTreePositions(const SolverSettings& st, std::vector<SolverTree>& tre
   }
   R.dnu.noalias() = N.g.topRows(m).transpose() * N.beta.head(m);
   for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
-  T.llt.solveInPlace(R.dnu);
+  T.factor.solveInPlace(R.dnu);
   T.pnu = R.dnu;
   for (int i = 0; i < m; ++i) rows[R.contacts[i]].lambda_p = N.beta[i];
   j = 0;

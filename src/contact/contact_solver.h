@@ -37,6 +37,7 @@
 #include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/sim/world_config.h"
 #include "contact/contact_solver_work.h"
+#include "contact/contact_tree_factor.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -80,11 +81,16 @@ struct SolverTree {
     double a = 0.0;                       ///< (M⁻¹)_kk; 0 until the column is made
     Eigen::VectorXd column;               ///< M⁻¹ e_k, made when the row first acts
   };
-  Eigen::VectorXd nu;                              ///< ν after the loads' kick and the impulses
-  Eigen::VectorXd nu_start, nu_sweep;              ///< before the impulses; before a sweep
-  Eigen::VectorXd pnu, pnu_sweep;                  ///< the position correction's pseudo-velocity
-  Eigen::MatrixXd M;                               ///< M(q)
-  Eigen::LLT<Eigen::MatrixXd> llt;                 ///< its factor
+  Eigen::VectorXd nu;                  ///< ν after the loads' kick and the impulses
+  Eigen::VectorXd nu_start, nu_sweep;  ///< before the impulses; before a sweep
+  Eigen::VectorXd pnu, pnu_sweep;      ///< the position correction's pseudo-velocity
+  Eigen::MatrixXd M;                   ///< M(q)
+  TreeFactor factor;                   ///< its factor (contact_tree_factor.h)
+  /// Per coordinate its parent coordinate (−1: none; the floating base's six a chain, a joint's
+  /// the coordinate of its parent link's joint, or the base's last): the sparsity of M that
+  /// `factor` keeps. Empty with mimic joints (M on the independent coordinates is factored
+  /// densely).
+  std::vector<int> coordinate_parent;
   Eigen::Matrix<double, 6, Eigen::Dynamic> twist;  ///< per coordinate: (ω; v_o), world
   std::vector<int> parent;                         ///< per tree body: its parent (−1 for body 0)
   bool floating = false;                           ///< the base's 6 coordinates come first
@@ -104,7 +110,16 @@ struct ContactRow {
   int a = -1, b = -1;
   int ta = -1, tb = -1;
   Eigen::Matrix<double, 3, Eigen::Dynamic> ja, jb;
+  /// The tree sides' responses M⁻¹ jᵀ once `responses` is set; before, the first half of their
+  /// solve (TreeFactor::halfSolve), which gave ka, kb: the responses are made only for rows that
+  /// a sweep applies impulses through (detail::finishTreeResponses).
   Eigen::Matrix<double, Eigen::Dynamic, 3> wa, wb;
+  bool responses = false;
+  /// The coordinates from whose paths to the base the tree sides' Jacobians draw (−1: none; a
+  /// contact between two links of one tree has two on side a).
+  int leaf_a = -1, leaf_a2 = -1, leaf_b = -1;
+  /// The tree sides' parts of the Delassus block, j M⁻¹ jᵀ (world axes).
+  Eigen::Matrix3d ka = Eigen::Matrix3d::Zero(), kb = Eigen::Matrix3d::Zero();
   Eigen::Vector3d ra, rb, n, t1, t2;
   double k_nn = 0.0;
   /// K n: how the relative velocity at the point changes per unit normal impulse (world axes).

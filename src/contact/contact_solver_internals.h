@@ -142,9 +142,13 @@ inline double bodyChange(const SolverWork& work, const SolverWork::Island& I) {
 void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
                    const Eigen::Vector3d& point_W, ContactRow& c);
 /// Adds the tree sides' J M⁻¹ Jᵀ to the Delassus block Kc (basis n, t1, t2; its upper triangle
-/// is kept) and to c.k_n, and keeps their responses c.wa, c.wb = M⁻¹ Jᵀ
-/// (contact_tree_jacobians.cc).
+/// is kept) and to c.k_n, keeps them in c.ka, c.kb and the first half of their responses in
+/// c.wa, c.wb (contact_tree_jacobians.cc).
 void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc);
+/// Makes the responses c.wa, c.wb = M⁻¹ Jᵀ of island I's rows that do not have them yet: before
+/// impulses are applied through them (the sweeps and their warm start).
+void finishTreeResponses(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                         const SolverWork& work, const SolverWork::Island& I);
 
 /// The face blocks of the rows (contact_face_blocks.cc).
 void makeGroups(std::vector<ContactRow>& rows, SolverWork& work);

@@ -28,21 +28,41 @@ void pointJacobian(const SolverTree& T, int b, const Eigen::Vector3d& p,
     J.col(j) = T.twist.col(j).tail<3>() + T.twist.col(j).head<3>().cross(p);
 }
 
+// The coordinate whose path to the base holds the joints that move tree body b (−1: none).
+int leafOf(const SolverTree& T, int b) {
+  if (b == 0) return T.floating ? 5 : -1;
+  return T.column[b - 1];
+}
+
+// Y = the first half of M⁻¹ jᵀ for the side's Jacobian j on tree T, whose nonzeros are on the
+// paths from the leaves to the base; returns j M⁻¹ jᵀ = Yᵀ Y.
+Eigen::Matrix3d halfResponse(const SolverTree& T, const Eigen::Matrix<double, 3, Eigen::Dynamic>& j,
+                             int leaf, int leaf2, Eigen::Matrix<double, Eigen::Dynamic, 3>& Y) {
+  Y = j.transpose();
+  T.factor.halfSolve(Y, leaf, leaf2);
+  return Y.transpose() * Y;
+}
+
 }  // namespace
 
 void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
                    const Eigen::Vector3d& point_W, ContactRow& c) {
   c.ta = c.a >= 0 ? bodies[c.a].tree : -1;
   c.tb = c.b >= 0 ? bodies[c.b].tree : -1;
+  c.leaf_a = c.leaf_a2 = c.leaf_b = -1;
   if (c.ta >= 0) {
     pointJacobian(trees[c.ta], bodies[c.a].tree_body, point_W, c.ja);
+    c.leaf_a = leafOf(trees[c.ta], bodies[c.a].tree_body);
     c.a = -1;
   }
   if (c.tb >= 0) {
     pointJacobian(trees[c.tb], bodies[c.b].tree_body, point_W, c.jb);
+    c.leaf_b = leafOf(trees[c.tb], bodies[c.b].tree_body);
     c.b = -1;
     if (c.tb == c.ta) {
       c.ja -= c.jb;
+      c.leaf_a2 = c.leaf_b;
+      c.leaf_b = -1;
       c.tb = -1;
     }
   }
@@ -50,20 +70,32 @@ void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<Solv
 
 void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc) {
   Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  c.responses = false;
+  c.ka.setZero();
+  c.kb.setZero();
   if (c.ta >= 0) {
-    c.wa = c.ja.transpose();
-    trees[c.ta].llt.solveInPlace(c.wa);
-    K.noalias() += c.ja * c.wa;
+    c.ka = halfResponse(trees[c.ta], c.ja, c.leaf_a, c.leaf_a2, c.wa);
+    K += c.ka;
   }
   if (c.tb >= 0) {
-    c.wb = c.jb.transpose();
-    trees[c.tb].llt.solveInPlace(c.wb);
-    K.noalias() += c.jb * c.wb;
+    c.kb = halfResponse(trees[c.tb], c.jb, c.leaf_b, -1, c.wb);
+    K += c.kb;
   }
   Eigen::Matrix3d B;
   B << c.n, c.t1, c.t2;
   Kc += B.transpose() * K * B;  // its upper triangle is kept
   c.k_n += K * c.n;
+}
+
+void finishTreeResponses(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                         const SolverWork& work, const SolverWork::Island& I) {
+  if (I.trees == 0) return;
+  forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+    if (c.responses) return;
+    if (c.ta >= 0) trees[c.ta].factor.finishSolve(c.wa);
+    if (c.tb >= 0) trees[c.tb].factor.finishSolve(c.wb);
+    c.responses = true;
+  });
 }
 
 template <Eigen::VectorXd SolverTree::*Nu>

@@ -16,7 +16,7 @@ namespace {
 void makeColumn(const SolverTree& t, SolverTree::LimitRow& r) {
   r.column.setZero(t.nu.size());
   r.column[r.index] = 1.0;
-  t.llt.solveInPlace(r.column);
+  t.factor.solveInPlace(r.column);
   r.a = r.column[r.index];
 }
 

@@ -10,7 +10,7 @@ namespace sim {
 namespace {
 
 // Trees with at most this many coordinates build the Hessian row by row over each row's
-// nonzeros (a stack array of their indices); larger ones by one dense rank update.
+// nonzeros (their indices found once per solve); larger ones by one dense rank update.
 constexpr int kSparseMax = 256;
 
 }  // namespace
@@ -40,6 +40,57 @@ void TreeNewton::resize(int m, int s, int n) {
   rows = m;
   n_single = s;
   nv = n;
+}
+
+bool TreeNewton::factorHessian() {
+  const int n = nv;
+  inv_diag_.resize(n);
+  nz_.resize(static_cast<std::size_t>(n) * n);
+  nz_begin_.resize(n);
+  nz_count_.resize(n);
+  int used = 0;
+  for (int k = n - 1; k >= 0; --k) {
+    const double d = H_(k, k);
+    if (!(d > 0.0 && std::isfinite(d))) return false;
+    const double l = std::sqrt(d), inv = 1.0 / l;
+    H_(k, k) = l;
+    inv_diag_[k] = inv;
+    // Row k of L left of the diagonal: its nonzeros, scaled.
+    int* nz = nz_.data() + used;
+    int count = 0;
+    for (int j = 0; j < k; ++j) {
+      double& x = H_(k, j);
+      if (x == 0.0) continue;
+      x *= inv;
+      nz[count++] = j;
+    }
+    nz_begin_[k] = used;
+    nz_count_[k] = count;
+    used += count;
+    // H_ij −= L_ki L_kj over those pairs (i ≥ j: the lower triangle).
+    for (int a = 0; a < count; ++a) {
+      const int i = nz[a];
+      const double li = H_(k, i);
+      for (int b = 0; b <= a; ++b) H_(i, nz[b]) -= li * H_(k, nz[b]);
+    }
+  }
+  return true;
+}
+
+void TreeNewton::solveHessian(Eigen::VectorXd& x) const {
+  const int n = nv;
+  for (int i = n - 1; i >= 0; --i) {  // Lᵀ y = x, from the last coordinate in
+    const double y = x[i] * inv_diag_[i];
+    x[i] = y;
+    const int* nz = nz_.data() + nz_begin_[i];
+    for (int a = 0; a < nz_count_[i]; ++a) x[nz[a]] -= H_(i, nz[a]) * y;
+  }
+  for (int i = 0; i < n; ++i) {  // L z = y, from the first out
+    double z = x[i];
+    const int* nz = nz_.data() + nz_begin_[i];
+    for (int a = 0; a < nz_count_[i]; ++a) z -= H_(i, nz[a]) * x[nz[a]];
+    x[i] = z * inv_diag_[i];
+  }
 }
 
 double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature) const {
@@ -88,12 +139,10 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       if (n <= kSparseMax) {
         // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
         // the joints between its link and the base (a foot: the base's six and its leg's).
-        int nz[kSparseMax];
         for (int i = 0; i < m; ++i) {
           if (!active_[i]) continue;
-          int k = 0;
-          for (int c = 0; c < n; ++c)
-            if (G(i, c) != 0.0) nz[k++] = c;
+          const int* nz = row_nz_.data() + row_nz_begin_[i];
+          const int k = row_nz_begin_[i + 1] - row_nz_begin_[i];
           for (int a = 0; a < k; ++a) {
             const double ga = D[i] * G(i, nz[a]);
             for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
@@ -107,13 +156,11 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       }
       for (int j = 0; j < s; ++j)
         if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
-      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(H_);  // in place: H_'s lower triangle is L
-      factored_ = llt.info() == Eigen::Success;
+      factored_ = factorHessian();
       if (!factored_) return -1;
     }
     delta_ = -grad_;
-    H_.triangularView<Eigen::Lower>().solveInPlace(delta_);
-    H_.triangularView<Eigen::Lower>().adjoint().solveInPlace(delta_);
+    solveHessian(delta_);
     // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
     // nondecreasing; its root by Newton steps kept inside a bracket.
     gd_.head(m).noalias() = G * delta_;
@@ -159,6 +206,15 @@ int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eig
   const auto G = g.topLeftCorner(m, nv);
   int steps = 0;
   factored_ = false;  // a new M and new rows
+  // Each row's nonzero coordinates, for the Hessian's rebuilds in this solve.
+  row_nz_begin_.resize(m + 1);
+  row_nz_.clear();
+  for (int i = 0; i < m && nv <= kSparseMax; ++i) {
+    row_nz_begin_[i] = static_cast<int>(row_nz_.size());
+    for (int c = 0; c < nv; ++c)
+      if (G(i, c) != 0.0) row_nz_.push_back(c);
+  }
+  row_nz_begin_[m] = static_cast<int>(row_nz_.size());
   double last_missed = std::numeric_limits<double>::infinity();
   for (int round = 0; round < max_rounds; ++round) {
     // The targets shifted by the impulses so far: r_i + β_i / D_i.

@@ -62,6 +62,19 @@ struct TreeNewton {
   // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure.
   int minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
                double tolerance, int max_steps);
+  // H_ = Lᵀ L in place (L in H_'s lower triangle), eliminating from the last coordinate in and
+  // skipping L's zeros: M is zero but where one coordinate is an ancestor of the other (the
+  // children come after their parents), so taking the leaves first makes no fill-in, and a
+  // contact row adds only its own path's (or, between two links, its two paths') (Featherstone,
+  // Rigid Body Dynamics Algorithms, §6.5). False when H_ is not positive definite.
+  bool factorHessian();
+  // x ← H⁻¹ x with that factor.
+  void solveHessian(Eigen::VectorXd& x) const;
+  Eigen::VectorXd inv_diag_;                   // 1 / L_kk
+  std::vector<int> nz_, nz_begin_, nz_count_;  // per row k of L: the columns j < k it holds
+  // Per row of g its nonzero columns (row i: row_nz_[row_nz_begin_[i]] up to
+  // row_nz_[row_nz_begin_[i + 1]]), found once per solve (trees of at most kSparseMax coordinates).
+  std::vector<int> row_nz_, row_nz_begin_;
   std::vector<char> active_;  // the rows active in H_'s factor
   bool factored_ = false;     // H_'s lower triangle holds the factor for active_
   // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it).

@@ -151,6 +151,16 @@ void makeCoordinates(const Model& model, const Data& data, const dynamics::Artic
   out.parent.resize(tree.bodyCount());
   out.parent[0] = -1;
   for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
+  // The coordinates' parents, the sparsity of M the factor keeps (none with mimic joints).
+  out.coordinate_parent.clear();
+  if (tree.hasMimic()) return;
+  const int base = tree.floating() ? 6 : 0;
+  out.coordinate_parent.resize(n);
+  for (int j = 0; j < base; ++j) out.coordinate_parent[j] = j - 1;
+  for (int k = 0; k < tree.jointCount(); ++k) {
+    const int p = tree.parentOf(k + 1);
+    out.coordinate_parent[tree.velocityIndex(k)] = p == 0 ? base - 1 : tree.velocityIndex(p - 1);
+  }
 }
 
 // Every coordinate with a position limit: a row the solver keeps within it (its column
@@ -230,8 +240,8 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
   noteEnergySlack(model, data, t, out);
   onIndependentCoordinates(data, tree, out);
-  out.llt.compute(out.M);
   makeCoordinates(model, data, tree, out);
+  out.factor.compute(out.M, out.coordinate_parent);
   makeLimitRows(tree, td, out);
 
   S.state = td.state;

@@ -94,13 +94,21 @@ void restartCold(std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, 
   });
 }
 
-// The warm start's impulses applied, each inside its cone (a compliant contact: its spring's).
-void warmStart(std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, SolverWork& work,
-               const SolverWork::Island& I) {
-  forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+// The warm start's impulses, each inside its cone (a compliant contact: its spring's).
+void clampWarmStart(std::vector<ContactRow>& rows, const SolverWork& work,
+                    const SolverWork::Island& I) {
+  forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
     c.lambda_n = c.compliant ? c.lambda_fixed : std::max(0.0, c.lambda_n);
     const double tmax = c.mu * c.lambda_n, t = c.lambda_t.norm();
     if (t > tmax) c.lambda_t *= t > 0 ? tmax / t : 0.0;
+  });
+}
+
+// … applied.
+void warmStart(std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, SolverWork& work,
+               const SolverWork::Island& I) {
+  clampWarmStart(rows, work, I);
+  forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
     applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
                              c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
   });
@@ -132,14 +140,17 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     if (!bounce) restartCold(trees, rows, work, I);  // start again from before the contacts
     forRows(work, rows, I,
             [&](std::size_t k, ContactRow& c) { setTarget(st, work, trees, bounce, k, c); });
-    // A resting island of faces solved directly; the sweeps then only confirm it.
-    if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I))
-      warmStart(trees, rows, work, I);
-    // A resting tree's island by Newton's method, from the warm start: exact, no sweeps.
+    // A resting tree's island by Newton's method, from the warm start's impulses: exact, no
+    // sweeps (and no responses M⁻¹ Jᵀ: it works on M itself). On failure it leaves ν as it was.
     if (bounce && I.trees > 0) {
+      clampWarmStart(rows, work, I);
       const int steps = solveRestingTree(st, trees, rows, work, I);
       if (steps > 0) return steps;
     }
+    finishTreeResponses(trees, rows, work, I);
+    // A resting island of faces solved directly; the sweeps then only confirm it.
+    if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I))
+      warmStart(trees, rows, work, I);
     int it = 0;
     for (; it < max_iterations; ++it) {
       if (sweepIsland(st, trees, rows, work, I, patch) < tolerance) {
