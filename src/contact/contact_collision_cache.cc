@@ -2,7 +2,6 @@
 // inflated by a speculative margin, the points the ground plane is tested against and a
 // bounding sphere, made once per topology (each step places the shapes: placeShape).
 #include <fcl/geometry/shape/box.h>
-#include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
 
@@ -41,16 +40,17 @@ std::vector<Eigen::Vector3d> distinctVertices(const scene::TriangleMesh& mesh) {
 // shape keeps its form.
 double marginOf(double size) { return std::min(0.005, 0.25 * size); }
 
-// A mesh collides as its convex hull (doc/contacts.md says so): FCL's GJK asks a convex shape
-// for its extreme vertices, and the plane can touch hull vertices only. A flat mesh (no volume)
-// keeps its own triangles.
+// A mesh collides as its convex hull (doc/contacts.md says so): MPR asks a convex shape for its
+// extreme vertices (contact_convex_pairs.cc), and the plane can touch hull vertices only. A flat
+// mesh (no volume) keeps its own triangles. Every pair with a mesh goes to
+// contact_convex_pairs.cc, so a mesh has no FCL geometry.
 void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
   scene::ConvexHull hull = scene::convexHull(s.mesh.vertices);
   auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(hull.vertices);
-  auto faces = std::make_shared<std::vector<int>>();
+  std::vector<int> faces;  // FCL's encoding: per face its vertex count, then its vertices
   int face_count = static_cast<int>(hull.triangles.size());
   if (face_count > 0) {
-    for (const auto& t : hull.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+    for (const auto& t : hull.triangles) faces.insert(faces.end(), {3, t[0], t[1], t[2]});
   } else {
     *vertices = distinctVertices(s.mesh);
     std::vector<int> index(s.mesh.vertices.size());
@@ -59,7 +59,7 @@ void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
                                                    s.mesh.vertices[k], lexicographicLess) -
                                   vertices->begin());
     for (const auto& t : s.mesh.triangles)
-      faces->insert(faces->end(), {3, index[t[0]], index[t[1]], index[t[2]]});
+      faces.insert(faces.end(), {3, index[t[0]], index[t[1]], index[t[2]]});
     face_count = static_cast<int>(s.mesh.triangles.size());
   }
   out.vertices_S = *vertices;
@@ -70,8 +70,7 @@ void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
   for (const auto& v : *vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   out.centre_S = vertices->empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (lo + hi));
   for (const auto& v : *vertices) out.bound = std::max(out.bound, (v - out.centre_S).norm());
-  out.geometry = std::make_shared<fcl::Convexd>(vertices, face_count, faces);
-  out.hull = makeHull(vertices, *faces, face_count);
+  out.hull = makeHull(vertices, faces, face_count);
 }
 
 CollisionCache::Shape makeShape(const Shape& s, int body, int index) {

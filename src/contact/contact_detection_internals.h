@@ -1,5 +1,5 @@
 // Contact detection's internals (contact_detection.h), shared by its files and by nothing else:
-// the collision cache (per shape its FCL geometry, plane points and bounding sphere) and the
+// the collision cache (per shape its FCL geometry or hull, plane points, bounding sphere) and the
 // narrow phases the broad phase hands its pairs to. FCL is included by the detection's files
 // only:
 //
@@ -26,12 +26,13 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-/// Per shape of every body (body order, then the body's shape order): its FCL geometry, the
+/// Per shape of every body (body order, then the body's shape order): its FCL geometry (a
+/// mesh: its hull instead), the
 /// points the ground plane is tested against, and a bounding sphere about the shape's origin.
 class CollisionCache {
  public:
   /// A mesh's convex hull as the narrow phase of two hulls walks it (contact_convex_pairs.cc):
-  /// FCL's Convex takes the same vertices and faces, so both see one hull.
+  /// Walked as FCL's Convex would walk the same vertices and faces.
   struct Hull {
     std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices;
     /// Per vertex v: at neighbours[v] the count of its neighbours along the faces' edges, then
