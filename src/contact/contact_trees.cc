@@ -247,21 +247,31 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   S.state = td.state;
   dynamics::expandVelocity(tree, out.nu, S.nu_dot);
   dynamics::setVelocityVector(tree, S.nu_dot, S.state);
-  dynamics::treeKinematics(tree, S.state, kicked);
+  kicked = S.kin;  // the kick changes the rates only: the same poses, new velocities
+  dynamics::treeVelocities(tree, S.state, kicked);
   // The kick's work: what it adds to the kinetic energy, to the bit for a constant effort
   // (½ m (v'² − v²) = h F (v + v')/2), against which the energy guard measures the contacts.
   td.contact_kick_work =
       0.5 * h * (td.contact_power_start + treeInputPower(model, data, t, kicked, S.state.v));
 }
 
-void takeTreeImpulses(const SolverTree& solved, TreeData& td,
-                      const dynamics::ArticulatedBody& tree) {
+void takeTreeImpulses(const Model& model, Data& data, int t, const SolverTree& solved,
+                      const dynamics::TreeKinematics& kicked) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  TreeData& td = data.trees[t];
   // (ν and pν on the independent coordinates: every joint's from them.)
   dynamics::expandVelocity(tree, solved.nu, td.contact_nu);
   dynamics::setVelocityVector(tree, td.contact_nu, td.state);
   dynamics::expandVelocity(tree, solved.pnu, td.contact_shift);
   td.contact_kicked = true;
-  td.integrator->reset();
+  // The impulses changed the rates only: the kick's poses with the velocities made anew are
+  // the kinematics of the new state, and M(q) is the kick's (on every joint without mimic
+  // joints). The drift starts from them (its integrator's cache dropped).
+  dynamics::TreeKinematics& kin = data.tree_scratch.solved_kin;
+  kin = kicked;  // (copies into storage of the same size: no allocation)
+  dynamics::treeVelocities(tree, td.state, kin);
+  if (tree.floating()) td.contact_momentum_solved = dynamics::worldMomentum(tree, kin);
+  td.integrator->startFrom(td.state, kin, tree.hasMimic() ? nullptr : &solved.M);
 }
 
 }  // namespace sim

@@ -176,8 +176,7 @@ struct TreeStageScratch {
   /// limitedStepBook: the kinematics of the state before the step and after it
   dynamics::TreeKinematics book_kin;
   dynamics::TreeState before;
-  dynamics::TreeKinematics check_kin;   ///< contactStepBroken (contact_tree_end.cc)
-  dynamics::TreeKinematics solved_kin;  ///< noteTreeImpulsesTaken: the momentum the impulses left
+  dynamics::TreeKinematics solved_kin;  ///< takeTreeImpulses: the kinematics after the impulses
   dynamics::TreeKinematics undo_kin;    ///< undoFaultyStep
   /// kickTree (contact_trees.cc): the tree's kinematics and at rest, its state at rest, the
   /// loads' moments, ν̇ and M ν̇, the reduced mass matrix.
