@@ -228,9 +228,23 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
 }  // namespace
 
 bool finishTreeContactStep(const Model& model, Data& data, int t) {
+  TreeData& td = data.trees[t];
+  td.contact_end.valid = false;
+  // A floating tree's correction leaves M(q) at its end pose in split_M (splitMomentum).
+  const bool mass = !td.contact_shift.isZero(0.0) && model.trees[t].body.floating();
   const double booked = correctAndBook(model, data, t);
   if (contactStepBroken(model, data, t, booked)) return false;
   data.dissipated_energy += booked;
+  // What the next contact step's kick would make again if it starts from this state.
+  TreeData::ContactEnd& e = td.contact_end;  // (copies into storage of the same size)
+  e.kin = data.tree_scratch.end_kin;
+  e.has_mass = mass;
+  if (mass) e.M = data.tree_scratch.split_M;
+  e.q = td.state.q;
+  e.v = td.state.v;
+  e.M_W0 = td.state.M_W0;
+  e.omega_0 = td.state.omega_0;
+  e.valid = true;
   return true;
 }
 
