@@ -105,8 +105,7 @@ void solveRows(const Model& model, Data& data, ContactScratch& S, const SolverSe
   for (std::size_t u = 0; u < S.trees.size(); ++u) {
     const int t = S.tree_of_solver_tree[u];
     if (!S.tree_used[u]) continue;
-    takeTreeImpulses(S.trees[u], data.trees[t], model.trees[t].body);
-    noteTreeImpulsesTaken(model, data, t);
+    takeTreeImpulses(model, data, t, S.trees[u], S.tree_kicked[u]);
   }
   noteTreeReferences(model, data, S);
 }

@@ -38,7 +38,8 @@ void deepestContactOf(const Model& model, const Data& data, int t, TreeFaults& f
     }
 }
 
-// A floating tree at the pose of `s` (kin: its poses): the base bivelocity that gives it the world
+// A floating tree at the pose of `s` (kin: its poses; mass_known: scratch.split_M holds M(q)
+// there already): the base bivelocity that gives it the world
 // momentum Pi with the joint rates of s, and its kinetic energy split into the part it would
 // have with its joints locked and the joints' motion relative to the base: with
 // M = [[B, C], [Cᵀ, D]] over (base, joints) and π the momentum in the base's frame,
@@ -49,11 +50,12 @@ struct MomentumSplit {
 };
 MomentumSplit splitMomentum(const dynamics::ArticulatedBody& tree,
                             const dynamics::TreeKinematics& kin, const dynamics::TreeState& s,
-                            const cga::Moment& Pi, double lambda, TreeStageScratch& scratch) {
+                            const cga::Moment& Pi, double lambda, TreeStageScratch& scratch,
+                            bool mass_known = false) {
   Eigen::MatrixXd& M = scratch.split_M;
   Eigen::VectorXd& Dv = scratch.split_Dv;
   const int n = tree.jointCount();
-  dynamics::massMatrix(tree, kin, M, scratch.algorithms);
+  if (!mass_known) dynamics::massMatrix(tree, kin, M, scratch.algorithms);
   Dv.noalias() = M.bottomRightCorner(n, n) * s.v;
   const cga::Moment base = s.M_W0.reverse().apply(Pi, lambda);
   Eigen::Matrix<double, 6, 1> pi;
@@ -74,7 +76,8 @@ MomentumSplit splitMomentum(const dynamics::ArticulatedBody& tree,
 // joints move at their rates, its base's bivelocity is solved from the momentum at the moved
 // pose, and what the move costs is paid from the energy of the joints' motion relative to the
 // base (T = T_locked + s² T_internal with the rates scaled by s), so that a correction — an
-// internal contact's above all — never changes the tree's momentum.
+// internal contact's above all — never changes the tree's momentum. Leaves the kinematics of
+// the corrected state in end_kin.
 void correctTree(const Model& model, Data& data, int t) {
   const TreeModel& tm = model.trees[t];
   TreeData& td = data.trees[t];
@@ -83,10 +86,14 @@ void correctTree(const Model& model, Data& data, int t) {
   const int n = tree.jointCount();
   dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;
   dynamics::TreeState& moved = data.tree_scratch.moved;
-  dynamics::treeKinematics(tree, td.state, kin);
-  const double T = dynamics::kineticEnergy(tree, kin);
-  const double E0 = treeEnergy(model, t, kin);
-  const cga::Moment Pi = dynamics::worldMomentum(tree, kin);
+  const dynamics::TreeKinematics* drifted = td.integrator->lastExactKinematics();
+  if (!drifted) {
+    dynamics::treeKinematics(tree, td.state, kin);
+    drifted = &kin;
+  }
+  const double T = dynamics::kineticEnergy(tree, *drifted);
+  const double E0 = treeEnergy(model, t, *drifted);
+  const cga::Moment Pi = dynamics::worldMomentum(tree, *drifted);
   const auto moveBy = [&](double f, dynamics::TreeState& s) {
     s = td.state;
     if (tree.floating())
@@ -111,6 +118,10 @@ void correctTree(const Model& model, Data& data, int t) {
     }
     moveBy(f, td.state);
     td.state.v *= scale;
+    if (f == 1.0)  // the moved pose itself, to the bit (the same operations)
+      dynamics::treeVelocities(tree, td.state, kin);
+    else
+      dynamics::treeKinematics(tree, td.state, kin);
   } else {
     const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda, data.tree_scratch);
     const double U_moved = treeEnergy(model, t, kin) - dynamics::kineticEnergy(tree, kin);
@@ -122,22 +133,34 @@ void correctTree(const Model& model, Data& data, int t) {
     }
     moveBy(f, td.state);
     td.state.v *= s;
-    dynamics::treeKinematics(tree, td.state, kin);
-    const MomentumSplit end = splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch);
+    // With f = 1 the pose is the moved one to the bit (the same operations): its poses and M
+    // are at hand.
+    if (f != 1.0) dynamics::treePoses(tree, td.state, kin);
+    const MomentumSplit end =
+        splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch, f == 1.0);
     td.state.omega_0 = cga::Bivelocity(end.omega_0.head<3>(), end.omega_0.tail<3>());
+    dynamics::treeVelocities(tree, td.state, kin);
   }
 }
 
 // The correction (correctTree), then the step's energy booked: what the tree had plus the
 // inputs' work (trapezoidal) minus what it has now. Returns what was booked, J (negative: the
-// step created energy).
+// step created energy); leaves the kinematics of the tree's end state in end_kin.
 double correctAndBook(const Model& model, Data& data, int t) {
   TreeData& td = data.trees[t];
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
   const double h = model.config.dt;
   dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;
-  if (!td.contact_shift.isZero(0.0)) correctTree(model, data, t);
-  dynamics::treeKinematics(tree, td.state, kin);
+  // The drift's end state's kinematics when its integrator has them to the bit and no
+  // correction moves it.
+  const dynamics::TreeKinematics* drifted = td.integrator->lastExactKinematics();
+  if (!td.contact_shift.isZero(0.0)) {
+    correctTree(model, data, t);  // (leaves the kinematics of the corrected state in kin)
+  } else if (drifted) {
+    kin = *drifted;  // (copies into storage of the same size: no allocation)
+  } else {
+    dynamics::treeKinematics(tree, td.state, kin);
+  }
   // The inputs' work, trapezoidal from the rates before the kick to those at the end: for a
   // constant effort ½ h τ·(ν + ν'), exactly what it adds to the kinetic energy when nothing else
   // acts, and none while a contact or a stop holds the effort (the kick's own work, ½ h τ·(ν +
@@ -165,8 +188,7 @@ void contactFault(const Model& model, Data& data, int t, TreeFaults::Rule rule, 
 bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
   const TreeModel& tm = model.trees[t];
   const TreeData& td = data.trees[t];
-  dynamics::TreeKinematics& kin = data.tree_scratch.check_kin;
-  dynamics::treeKinematics(tm.body, td.state, kin);
+  const dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;  // correctAndBook's
   const double T = dynamics::kineticEnergy(tm.body, kin);
   const double energy_bound = kEnergySlackFactor * td.contact_energy_slack +
                               kEnergyTolerance * (T + std::abs(td.contact_energy_start)) + 1e-12;
@@ -205,18 +227,24 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
 
 }  // namespace
 
-void noteTreeImpulsesTaken(const Model& model, Data& data, int t) {
-  const dynamics::ArticulatedBody& tree = model.trees[t].body;
-  if (!tree.floating()) return;
-  dynamics::TreeKinematics& kin = data.tree_scratch.solved_kin;
-  dynamics::treeKinematics(tree, data.trees[t].state, kin);
-  data.trees[t].contact_momentum_solved = dynamics::worldMomentum(tree, kin);
-}
-
 bool finishTreeContactStep(const Model& model, Data& data, int t) {
+  TreeData& td = data.trees[t];
+  td.contact_end.valid = false;
+  // A floating tree's correction leaves M(q) at its end pose in split_M (splitMomentum).
+  const bool mass = !td.contact_shift.isZero(0.0) && model.trees[t].body.floating();
   const double booked = correctAndBook(model, data, t);
   if (contactStepBroken(model, data, t, booked)) return false;
   data.dissipated_energy += booked;
+  // What the next contact step's kick would make again if it starts from this state.
+  TreeData::ContactEnd& e = td.contact_end;  // (copies into storage of the same size)
+  e.kin = data.tree_scratch.end_kin;
+  e.has_mass = mass;
+  if (mass) e.M = data.tree_scratch.split_M;
+  e.q = td.state.q;
+  e.v = td.state.v;
+  e.M_W0 = td.state.M_W0;
+  e.omega_0 = td.state.omega_0;
+  e.valid = true;
   return true;
 }
 

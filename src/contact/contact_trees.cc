@@ -188,6 +188,21 @@ void makeLimitRows(const dynamics::ArticulatedBody& tree, const TreeData& td, So
   }
 }
 
+// Whether tree state s is, to the bit, the one a contact step ended in.
+bool sameState(const dynamics::TreeState& s, const TreeData::ContactEnd& e) {
+  const auto same = [](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    if (x.size() != y.size()) return false;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (x[i] != y[i]) return false;
+    return true;
+  };
+  const auto same3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+    return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+  };
+  return s.M_W0.coefficients() == e.M_W0.coefficients() && same(s.q, e.q) && same(s.v, e.v) &&
+         same3(s.omega_0.rot, e.omega_0.rot) && same3(s.omega_0.trans, e.omega_0.trans);
+}
+
 }  // namespace
 
 double treeEnergy(const Model& model, int t, const dynamics::TreeKinematics& kin) {
@@ -220,10 +235,19 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   const double h = model.config.dt;
   TreeStageScratch::Kick& S = data.tree_scratch.kick;
 
-  dynamics::treeKinematics(tree, td.state, S.kin);
+  // The kinematics and M(q) the last contact step left, when the tree is still in its state.
+  const TreeData::ContactEnd& end = td.contact_end;
+  const bool from_end = end.valid && sameState(td.state, end);
+  if (from_end)
+    S.kin = end.kin;  // (copies into storage of the same size: no allocation)
+  else
+    dynamics::treeKinematics(tree, td.state, S.kin);
   td.contact_energy_start = treeEnergy(model, t, S.kin);
   accelerationAtRest(model, data, t);
-  dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
+  if (from_end && end.has_mass)
+    out.M = end.M;
+  else
+    dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
   if (td.loads.servos.active()) {  // their efforts for the step, then the kick with them
     kickServos(model, data, t, out.M);
     accelerationAtRest(model, data, t);
@@ -247,21 +271,31 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   S.state = td.state;
   dynamics::expandVelocity(tree, out.nu, S.nu_dot);
   dynamics::setVelocityVector(tree, S.nu_dot, S.state);
-  dynamics::treeKinematics(tree, S.state, kicked);
+  kicked = S.kin;  // the kick changes the rates only: the same poses, new velocities
+  dynamics::treeVelocities(tree, S.state, kicked);
   // The kick's work: what it adds to the kinetic energy, to the bit for a constant effort
   // (½ m (v'² − v²) = h F (v + v')/2), against which the energy guard measures the contacts.
   td.contact_kick_work =
       0.5 * h * (td.contact_power_start + treeInputPower(model, data, t, kicked, S.state.v));
 }
 
-void takeTreeImpulses(const SolverTree& solved, TreeData& td,
-                      const dynamics::ArticulatedBody& tree) {
+void takeTreeImpulses(const Model& model, Data& data, int t, const SolverTree& solved,
+                      const dynamics::TreeKinematics& kicked) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  TreeData& td = data.trees[t];
   // (ν and pν on the independent coordinates: every joint's from them.)
   dynamics::expandVelocity(tree, solved.nu, td.contact_nu);
   dynamics::setVelocityVector(tree, td.contact_nu, td.state);
   dynamics::expandVelocity(tree, solved.pnu, td.contact_shift);
   td.contact_kicked = true;
-  td.integrator->reset();
+  // The impulses changed the rates only: the kick's poses with the velocities made anew are
+  // the kinematics of the new state, and M(q) is the kick's (on every joint without mimic
+  // joints). The drift starts from them (its integrator's cache dropped).
+  dynamics::TreeKinematics& kin = data.tree_scratch.solved_kin;
+  kin = kicked;  // (copies into storage of the same size: no allocation)
+  dynamics::treeVelocities(tree, td.state, kin);
+  if (tree.floating()) td.contact_momentum_solved = dynamics::worldMomentum(tree, kin);
+  td.integrator->startFrom(td.state, kin, tree.hasMimic() ? nullptr : &solved.M);
 }
 
 }  // namespace sim

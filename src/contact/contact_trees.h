@@ -20,21 +20,20 @@ namespace sim {
 void kickTree(const Model& model, Data& data, int t, SolverTree& out,
               dynamics::TreeKinematics& kicked);
 
-/// Ends the contact step of tree t: ν from the solver, the integrator's cache dropped, the
-/// position correction kept for after the drift.
-void takeTreeImpulses(const SolverTree& solved, TreeData& td,
-                      const dynamics::ArticulatedBody& tree);
-
-/// Keeps the world momentum tree t has after the contact impulses (a floating tree's), against
-/// which the contact step's momentum guard measures the drift.
-void noteTreeImpulsesTaken(const Model& model, Data& data, int t);
+/// Takes tree t's contact impulses: ν from the solver (`solved`), the position correction kept
+/// for after the drift, the world momentum a floating tree has now (against which the contact
+/// step's momentum guard measures the drift), and the drift's integrator started from the new
+/// state with its kinematics (the kick's poses, `kicked`, with the new velocities) and M(q).
+void takeTreeImpulses(const Model& model, Data& data, int t, const SolverTree& solved,
+                      const dynamics::TreeKinematics& kicked);
 
 /// Ends the contact step of tree t after its drift (contact_tree_end.cc): the position
 /// correction, paid from the kinetic energy when it raises the energy and keeping a floating
 /// tree's momentum; the step's energy booked (what the tree had plus the inputs' work minus what
 /// it has); the guards: the energy may not rise beyond the inputs' work, a floating tree's
 /// momentum must be the one its impulses give. Returns false, the fault recorded, when a guard
-/// is broken; else adds the booked energy to Data::dissipated_energy.
+/// is broken; else adds the booked energy to Data::dissipated_energy. Either way leaves the
+/// kinematics of the tree's state in data.tree_scratch.end_kin.
 bool finishTreeContactStep(const Model& model, Data& data, int t);
 
 /// Kinetic plus potential energy of tree t (uniform gravity), J, at the poses and velocities of

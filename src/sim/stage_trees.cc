@@ -114,11 +114,10 @@ void undoFaultyStep(const Model& model, Data& data, int t, bool contact_step) {
   td.integrator->reset();
 }
 
-// The links' states from the tree's after its step: from the kinematics the integrator left,
-// when it has them, else recomputed (writeTreeBodies).
-void writeBodies(const Model& model, Data& data, int t) {
+// The links' states from the tree's after its step: from `kin`, the kinematics of its state,
+// when the step has them, else recomputed (writeTreeBodies).
+void writeBodies(const Model& model, Data& data, int t, const dynamics::TreeKinematics* kin) {
   const TreeModel& tm = model.trees[t];
-  const dynamics::TreeKinematics* kin = data.trees[t].integrator->lastKinematics();
   if (!kin) return writeTreeBodies(model, data, t);
   for (int b = tm.body.floating() ? 0 : 1; b < tm.body.bodyCount(); ++b) {
     MovingBodyData& body = data.bodies[tm.movingOf(b)];
@@ -193,10 +192,10 @@ void integrateTrees(const Model& model, Data& data) {
     if (broken) {
       undoFaultyStep(model, data, t, contact_step);
       writeTreeBodies(model, data, t);
-    } else if (contact_step) {
-      writeTreeBodies(model, data, t);
-    } else {
-      writeBodies(model, data, t);
+    } else if (contact_step) {  // the kinematics of its end state: finishTreeContactStep's
+      writeBodies(model, data, t, &data.tree_scratch.end_kin);
+    } else {  // the integrator's, when it has them
+      writeBodies(model, data, t, td.integrator->lastKinematics());
     }
   }
 }

@@ -37,19 +37,26 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
       rows_.push_back({i, Kind::kUpper, (j.upper - q[k]) / h, 0.0});
   }
   if (rows_.empty()) return;
-  if (columns_.size() < rows_.size())
-    columns_.resize(rows_.size());  // never shrunk: no reallocation
-  for (std::size_t r = 0; r < rows_.size(); ++r) {
-    columns_[r].setZero(nu_bar.size());
-    columns_[r][rows_[r].index] = 1.0;
-    llt.solveInPlace(columns_[r]);
+  const std::size_t n = static_cast<std::size_t>(nu_bar.size());
+  if (columns_.size() < n) {  // never shrunk: no reallocation
+    columns_.resize(n);
+    column_matrix_.resize(n, 0);
+  }
+  for (const Row& row : rows_) {  // the columns this matrix has not made yet
+    const int k = row.index;
+    if (column_matrix_[k] == matrix_) continue;
+    columns_[k].setZero(nu_bar.size());
+    columns_[k][k] = 1.0;
+    llt.solveInPlace(columns_[k]);
+    column_matrix_[k] = matrix_;
   }
   const double scale = 1.0 + nu_bar.cwiseAbs().maxCoeff();
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     double largest = 0.0;
     for (std::size_t r = 0; r < rows_.size(); ++r) {
       Row& row = rows_[r];
-      const double v = nu_bar[row.index], a = columns_[r][row.index];
+      const Eigen::VectorXd& column = columns_[row.index];
+      const double v = nu_bar[row.index], a = column[row.index];
       double y = row.y;
       switch (row.kind) {
         case Kind::kLower:
@@ -63,7 +70,7 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& ll
           break;
       }
       const double dy = y - row.y;
-      if (dy != 0.0) nu_bar += columns_[r] * dy;
+      if (dy != 0.0) nu_bar += column * dy;
       largest = std::max(largest, std::abs(dy * a));
       row.y = y;
     }

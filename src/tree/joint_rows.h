@@ -37,7 +37,12 @@ void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eig
 
 class JointRows {
  public:
-  /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step).
+  /// The step's matrix changed: the columns A e_k kept from the solves since the last call are
+  /// dropped. Within a step (one llt, several solves: the midpoint's iterations) each column is
+  /// made once.
+  void newMatrix() { ++matrix_; }
+  /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step),
+  /// with llt the matrix of the last newMatrix() call.
   void solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt, const Eigen::VectorXd& q,
              double h, Eigen::VectorXd& nu_bar);
   /// Positions within the limits (removes the round-off of q + h ν̄ at a stop); mimic joints'
@@ -80,7 +85,10 @@ class JointRows {
   std::vector<Watched> watched_;
   std::vector<Row> rows_;
   std::vector<int> held_;
+  // Per velocity index its column A e_k, valid while column_matrix_ is matrix_.
   std::vector<Eigen::VectorXd> columns_;
+  std::vector<unsigned> column_matrix_;
+  unsigned matrix_ = 1;
   mutable StopScratch stop_;  // stopHeld's working storage
 };
 

@@ -66,12 +66,14 @@ inline void Midpoint::step(const ArticulatedBody& tree, const TreeLoads& loads, 
 }
 
 // M at the pose of `kin_` (velocities from momenta, the metric of the stop impulses).
-// `at_end_pose`: a fixed base's M from the frames of residual_.endPose().
-inline void Midpoint::factorMass(const ArticulatedBody& tree, bool at_end_pose) {
+// `at_end_pose`: a fixed base's M from the frames of residual_.endPose(). `factor`: M factored
+// too (not needed at a step's start when the iteration's matrix is M + ½hC).
+inline void Midpoint::factorMass(const ArticulatedBody& tree, bool at_end_pose, bool factor) {
   if (at_end_pose)
     residual_.massMatrix(M_);
   else
     massMatrix(tree, kin_, M_, work_);
+  if (!factor) return;
   if (!tree.hasMimic()) return llt_.compute(M_);
   reduceMatrix(tree, M_, Mr_, work_);  // mimic joints: the step solves on ν_r
   llt_.compute(Mr_);
@@ -174,8 +176,12 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   const double lambda = tree.lambda();
   kin_at_state_ = false;
   const bool fresh = sameAsCached(state);
+  // The kinematics (and M) startFrom() gave for this state, else none: taken once.
+  const bool hinted = !fresh && startsAtHint(state);
+  const bool hinted_mass = hinted && hint_mass_ && !mimic;
+  start_hint_ = false;
   if (!fresh) {  // momenta of a state set from outside
-    treeKinematics(tree, state, kin_);
+    if (!hinted) treeKinematics(tree, state, kin_);
     T_ = kineticEnergy(tree, kin_);
     momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
     f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
@@ -204,11 +210,17 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   } else {
     reduceVelocity(tree, velocityVector(tree, state), nu_bar_);
   }
-  if (!fresh || !mass_at_last_) {
-    treeKinematics(tree, state, kin_);
-    factorMass(tree);
+  // M's own factor at the start serves as the iteration's matrix only without damping and
+  // servos; else the iteration factors M + ½hC (iterationMatrix) and M's is not needed.
+  const bool iterate_on_M = !damped(tree) && !loads.servos.active();
+  if (hinted_mass) {  // M at this pose, from startFrom()
+    if (iterate_on_M) llt_.compute(M_);
+  } else if (!fresh || !mass_at_last_) {
+    if (fresh) treeKinematics(tree, state, kin_);  // (a state set from outside has them now)
+    factorMass(tree, false, iterate_on_M);
   }
   const tree_math::Cholesky& A = iterationMatrix(tree, loads, h);
+  rows_.newMatrix();
   servoed_ = loads.servos.active();
   y_.setZero(nv);
   r_.resize(nv);
@@ -220,7 +232,10 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
   const bool fused = MidpointResidual::applies(tree, loads);
   if (!fused) mid_ = state;  // the general path's midpoint state
-  double load_power = 0.0;   // of the external moments at the midpoint
+  const bool loaded =
+      !loads.gravity_W.isZero(0.0) || std::any_of(loads.applied.begin(), loads.applied.end(),
+                                                  [](const Loads* l) { return l != nullptr; });
+  double load_power = 0.0;  // of the external moments at the midpoint
   // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
   // which leaves the sines and cosines of the next step's start behind.
   const bool fixed = !tree.floating();
@@ -259,8 +274,10 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
         r_[tree.velocityIndex(k)] -=
             0.5 * h * tree.joints()[k].damping * nu_bar_[tree.velocityIndex(k)];
     if (tree.floating()) {
+      // Without loads (a contact step's drift) every moment is a signed zero and W stays +0.
       W = cga::Moment();
-      for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
+      if (loaded)
+        for (int b = 0; b < tree.bodyCount(); ++b) W += kin_.M_W[b].apply(f_ext_[b], lambda);
       r_.head<6>() =
           tree_math::vec(mid_.M_W0.reverse().apply(Pi_ + W * (0.5 * h), lambda)) - pm_.head<6>();
     }
@@ -381,6 +398,7 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   if (!finite(state.q) || !finite(state.v) || !state.M_W0.allFinite() || !state.omega_0.allFinite())
     return false;
   kin_at_state_ = true;
+  kin_exact_ = !fixed;
   dissipated_ += taken;
   limited_ = limited_ || limited;
   last_ = state;

@@ -27,6 +27,16 @@ class Midpoint final : public TreeIntegrator {
     cached_ = false;
     start_at_last_ = false;
     kin_at_state_ = false;
+    start_hint_ = false;
+  }
+  void startFrom(const TreeState& state, const TreeKinematics& kin,
+                 const Eigen::MatrixXd* M) override {
+    reset();
+    hint_state_ = state;  // (copies into storage of the same size: no allocation)
+    kin_ = kin;
+    if (M) M_ = *M;
+    start_hint_ = true;
+    hint_mass_ = M != nullptr;
   }
   int lastIterations() const override { return iterations_; }
   double lastDissipated() const override { return dissipated_; }
@@ -34,6 +44,11 @@ class Midpoint final : public TreeIntegrator {
   bool lastSolved() const override { return solved_; }
   bool conservesMomentum() const override { return true; }
   const TreeKinematics* lastKinematics() const override { return kin_at_state_ ? &kin_ : nullptr; }
+  // A floating base's end poses come from treePoses, a fixed base's from the residual's
+  // formulas (substep).
+  const TreeKinematics* lastExactKinematics() const override {
+    return kin_at_state_ && kin_exact_ ? &kin_ : nullptr;
+  }
   const Eigen::VectorXd* lastEffort() const override { return servoed_ ? &effort_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,
@@ -41,14 +56,16 @@ class Midpoint final : public TreeIntegrator {
   int lastHalvings() const { return halvings_; }
 
  private:
-  bool sameAsCached(const TreeState& s) const {
-    if (!cached_) return false;
-    const auto a = s.M_W0.coefficients(), b = last_.M_W0.coefficients();
+  bool sameAsCached(const TreeState& s) const { return cached_ && sameState(s, last_); }
+  // Whether the step starts from the state startFrom() was given (its kinematics in kin_).
+  bool startsAtHint(const TreeState& s) const { return start_hint_ && sameState(s, hint_state_); }
+  static bool sameState(const TreeState& s, const TreeState& t) {
+    const auto a = s.M_W0.coefficients(), b = t.M_W0.coefficients();
     const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
       return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
     };
-    return a == b && same(s.q, last_.q) && same(s.v, last_.v) &&
-           equal3(s.omega_0.rot, last_.omega_0.rot) && equal3(s.omega_0.trans, last_.omega_0.trans);
+    return a == b && same(s.q, t.q) && same(s.v, t.v) && equal3(s.omega_0.rot, t.omega_0.rot) &&
+           equal3(s.omega_0.trans, t.omega_0.trans);
   }
   // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
   static bool finite(const Eigen::VectorXd& x) {
@@ -65,7 +82,7 @@ class Midpoint final : public TreeIntegrator {
   }
 
   // M at the pose of `kin_` or at a fixed base's end pose, factored.
-  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false);
+  void factorMass(const ArticulatedBody& tree, bool at_end_pose = false, bool factor = true);
   // Whether a joint of the tree is damped (kept per tree: an integrator belongs to one tree).
   bool damped(const ArticulatedBody& tree) {
     if (&tree != damped_tree_) {
@@ -127,6 +144,10 @@ class Midpoint final : public TreeIntegrator {
   bool mass_at_last_ = false;   // M_ and llt_ are M at the pose of last_
   bool start_at_last_ = false;  // residual_ holds the sines and cosines of last_'s ½q
   bool kin_at_state_ = false;   // kin_ is the kinematics of the state the last substep produced
+  bool kin_exact_ = false;      // and made by treePoses and treeVelocities
+  // startFrom(): kin_ (and with hint_mass_ M_) belong to hint_state_, until a substep starts
+  TreeState hint_state_;
+  bool start_hint_ = false, hint_mass_ = false;
   static constexpr int kMaxDegree = 7;
   static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
   // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)

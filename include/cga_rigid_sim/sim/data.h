@@ -158,6 +158,17 @@ struct TreeData {
   /// The generalized velocity ν after the contact impulses (takeTreeImpulses' work array, sized
   /// velocityCount()).
   Eigen::VectorXd contact_nu;
+  /// The kinematics of the state its last contact step ended in, and M(q) there when that step
+  /// had it: the next contact step's kick takes them when it starts from that very state
+  /// (contact_trees.cc) instead of making them again.
+  struct ContactEnd {
+    bool valid = false, has_mass = false;
+    dynamics::TreeKinematics kin;
+    Eigen::MatrixXd M;
+    Eigen::VectorXd q, v;
+    cga::Motor M_W0;
+    cga::Bivelocity omega_0;
+  } contact_end;
 };
 
 /// Work arrays of the tree stages, kept in the Data so that a step allocates nothing once they
@@ -176,8 +187,7 @@ struct TreeStageScratch {
   /// limitedStepBook: the kinematics of the state before the step and after it
   dynamics::TreeKinematics book_kin;
   dynamics::TreeState before;
-  dynamics::TreeKinematics check_kin;   ///< contactStepBroken (contact_tree_end.cc)
-  dynamics::TreeKinematics solved_kin;  ///< noteTreeImpulsesTaken: the momentum the impulses left
+  dynamics::TreeKinematics solved_kin;  ///< takeTreeImpulses: the kinematics after the impulses
   dynamics::TreeKinematics undo_kin;    ///< undoFaultyStep
   /// kickTree (contact_trees.cc): the tree's kinematics and at rest, its state at rest, the
   /// loads' moments, ν̇ and M ν̇, the reduced mass matrix.

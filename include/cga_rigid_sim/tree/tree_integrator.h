@@ -59,6 +59,13 @@ class TreeIntegrator {
                     TreeState& state) = 0;
   /// Drops cached momenta (after an impulse or a state override).
   virtual void reset() {}
+  /// reset(), and the kinematics `kin` of `state` and its mass matrix M (null: not at hand),
+  /// which the caller has made for the state the next step starts from (a contact step's, after
+  /// its impulses): the integrator may take them instead of making its own. They must be what
+  /// treeKinematics and massMatrix give for that state, to the bit; they are taken only when the
+  /// next step starts from that very state.
+  virtual void startFrom(const TreeState& /*state*/, const TreeKinematics& /*kin*/,
+                         const Eigen::MatrixXd* /*M*/) {}
   /// Fixed-point iterations of the last step (implicit methods; 0 otherwise), for benchmarks.
   virtual int lastIterations() const { return 0; }
   /// The energy the joints' damping and Coulomb friction took in the last step, J (≥ 0 up to
@@ -79,6 +86,10 @@ class TreeIntegrator {
   /// Valid until the next call on the integrator; describes that state only while it is
   /// unchanged.
   virtual const TreeKinematics* lastKinematics() const { return nullptr; }
+  /// lastKinematics() when they are what treeKinematics gives for that state to the bit (the
+  /// midpoint's for a floating base; a fixed base's come from other formulas, equal to
+  /// round-off), else null.
+  virtual const TreeKinematics* lastExactKinematics() const { return nullptr; }
   /// The effort the joints' actuators applied in the last step when servos acted (effort plus
   /// servo, clamped: the midpoint's at the midpoint, rk4's the stages' weighted mean), else
   /// null (the loads' effort was applied as given).
