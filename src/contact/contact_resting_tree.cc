@@ -93,15 +93,26 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
       N.D[i] = 1.0 / (kCompliance * std::max(d.dot(K * d), 1e-300));
       ++i;
     };
-    // The warm start's impulses split onto the rows: λ_n half on each pair of edges, λ_t by
-    // their difference (clamped into the pyramid).
+    // The warm start's impulses split onto the rows so that they give back the last step's
+    // λ_n and λ_t exactly (a resting tree then starts at its last answer): the pair of edges
+    // along t_e carries s_e ≥ |λ_te| / μ of λ_n (s_1 + s_2 = λ_n, the slack shared equally),
+    // its two edges (s_e ± λ_te / μ) / 2. Friction outside the pyramid (|λ_t1| + |λ_t2| >
+    // μ λ_n: the tangents turned since) is scaled onto it.
     const double ln = std::max(0.0, c.lambda_n);
     if (c.mu > 0) {
-      for (int e = 0; e < 2; ++e) {
-        const double d = std::clamp(c.lambda_t[e] / c.mu, -0.5 * ln, 0.5 * ln);
-        N.beta[i + 2 * e] = 0.5 * (0.5 * ln + d);
-        N.beta[i + 2 * e + 1] = 0.5 * (0.5 * ln - d);
+      double a = c.lambda_t[0] / c.mu, b = c.lambda_t[1] / c.mu;
+      const double l1 = std::abs(a) + std::abs(b);
+      if (l1 > ln) {
+        const double f = l1 > 0 ? ln / l1 : 0.0;
+        a *= f;
+        b *= f;
       }
+      const double s1 = std::abs(a) + 0.5 * std::max(0.0, ln - std::abs(a) - std::abs(b));
+      const double s2 = std::max(0.0, ln - s1);
+      N.beta[i] = std::max(0.0, 0.5 * (s1 + a));
+      N.beta[i + 1] = std::max(0.0, 0.5 * (s1 - a));
+      N.beta[i + 2] = std::max(0.0, 0.5 * (s2 + b));
+      N.beta[i + 3] = std::max(0.0, 0.5 * (s2 - b));
     } else {
       N.beta[i] = ln;
     }

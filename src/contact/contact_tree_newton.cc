@@ -28,6 +28,7 @@ void TreeNewton::resize(int m, int s, int n) {
     gd_.resize(z_.size());
     re_.resize(z_.size());
     active_.resize(z_.size());
+    crossing_.reserve(z_.size());
   }
   if (S_.rows() != n || S_.cols() < m) S_.resize(n, g.rows());
   if (H_.rows() != n) {
@@ -36,6 +37,7 @@ void TreeNewton::resize(int m, int s, int n) {
     delta_.resize(n);
     work_.resize(n);
     dnu_.resize(n);
+    start_.resize(n);
   }
   rows = m;
   n_single = s;
@@ -93,10 +95,28 @@ void TreeNewton::solveHessian(Eigen::VectorXd& x) const {
   }
 }
 
-double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature) const {
-  double f = alpha * dMd + dMx, c = dMd;
+void TreeNewton::splitRows(double dMd, double dMx) {
   const int m = rows + n_single;
+  fixed_slope_ = dMx;
+  fixed_curvature_ = dMd;
+  crossing_.clear();
   for (int i = 0; i < m; ++i) {
+    const double zi = z_[i], gi = gd_[i];
+    if (zi >= 0 ? gi >= 0 : gi <= 0) {  // the same side of its kink for every α ≥ 0
+      if (zi < 0) {
+        const double Di = i < rows ? D[i] : single[i - rows].D;
+        fixed_slope_ += Di * gi * zi;
+        fixed_curvature_ += Di * gi * gi;
+      }
+    } else {
+      crossing_.push_back(i);
+    }
+  }
+}
+
+double TreeNewton::slope(double alpha, double* curvature) const {
+  double f = fixed_slope_ + alpha * fixed_curvature_, c = fixed_curvature_;
+  for (const int i : crossing_) {
     const double zi = z_[i] + alpha * gd_[i];
     if (zi < 0) {
       const double Di = i < rows ? D[i] : single[i - rows].D;
@@ -108,18 +128,91 @@ double TreeNewton::slope(double alpha, double dMd, double dMx, double* curvature
   return f;
 }
 
+bool TreeNewton::factorActive(const Eigen::MatrixXd& M) {
+  const int m = rows, s = n_single, n = nv;
+  const auto G = g.topLeftCorner(m, n);
+  H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
+  if (n <= kSparseMax) {
+    // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
+    // the joints between its link and the base (a foot: the base's six and its leg's).
+    for (int i = 0; i < m; ++i) {
+      if (!active_[i]) continue;
+      const int* nz = row_nz_.data() + row_nz_begin_[i];
+      const int k = row_nz_begin_[i + 1] - row_nz_begin_[i];
+      for (int a = 0; a < k; ++a) {
+        const double ga = D[i] * G(i, nz[a]);
+        for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
+      }
+    }
+  } else {
+    int na = 0;
+    for (int i = 0; i < m; ++i)
+      if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
+    if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
+  }
+  for (int j = 0; j < s; ++j)
+    if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
+  factored_ = factorHessian();
+  return factored_;
+}
+
+void TreeNewton::residuals(const Eigen::VectorXd& nu) {
+  const int m = rows, s = n_single;
+  z_.head(m).noalias() = g.topLeftCorner(m, nv) * nu;
+  z_.head(m) -= re_.head(m);
+  for (int j = 0; j < s; ++j) z_[m + j] = single[j].sign * nu[single[j].index] - re_[m + j];
+}
+
+double TreeNewton::cost(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f,
+                        const Eigen::VectorXd& nu) {
+  residuals(nu);
+  dnu_ = nu - nu_f;
+  work_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
+  double c = dnu_.dot(work_);
+  for (int i = 0; i < rows + n_single; ++i)
+    if (z_[i] < 0) c += (i < rows ? D[i] : single[i - rows].D) * z_[i] * z_[i];
+  return 0.5 * c;
+}
+
+int TreeNewton::predict(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f,
+                        Eigen::VectorXd& nu) {
+  const int m = rows, s = n_single, n = nv;
+  bool any = false;
+  for (int i = 0; i < m; ++i) any = (active_[i] = beta[i] > 0) || any;
+  for (int j = 0; j < s; ++j) any = (active_[m + j] = single[j].beta > 0) || any;
+  if (!any) return 0;
+  // The gradient of the quadratic those rows make, at ν (cost() leaves z_ there and
+  // M (ν − ν_f) in work_), and its minimiser.
+  const double before = cost(M, nu_f, nu);
+  grad_ = work_;
+  const auto G = g.topLeftCorner(m, n);
+  for (int i = 0; i < m; ++i)
+    if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
+  for (int j = 0; j < s; ++j)
+    if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+  if (!factorActive(M)) return -1;
+  delta_ = -grad_;
+  solveHessian(delta_);
+  delta_ += nu;
+  if (cost(M, nu_f, delta_) < before) nu = delta_;
+  return 1;
+}
+
 int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
-                         double tolerance, int max_steps) {
+                         double tolerance, int max_steps, bool from_impulses) {
   const int m = rows, s = n_single, n = nv;
   const auto G = g.topLeftCorner(m, n);
   int step = 0;
+  if (from_impulses) {
+    const int predicted = predict(M, nu_f, nu);
+    if (predicted < 0) return -1;
+    step += predicted;
+  }
   while (step < max_steps) {
     ++step;
     // The residuals z_i = g_i ν − r_i, the gradient and, over the active rows (z_i < 0), the
     // Hessian M + Σ D_i g_iᵀ g_i.
-    z_.head(m).noalias() = G * nu;
-    z_.head(m) -= re_.head(m);
-    for (int j = 0; j < s; ++j) z_[m + j] = single[j].sign * nu[single[j].index] - re_[m + j];
+    residuals(nu);
     dnu_ = nu - nu_f;
     grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
     // The active rows; the Hessian depends on them alone (and on M): when they are those of
@@ -134,31 +227,7 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
     for (int j = 0; j < s; ++j)
       if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
-    if (!same_rows) {
-      H_.triangularView<Eigen::Lower>() = M.triangularView<Eigen::Lower>();
-      if (n <= kSparseMax) {
-        // D_i g_iᵀ g_i over the coordinates a row moves: a point's Jacobian has nonzeros only on
-        // the joints between its link and the base (a foot: the base's six and its leg's).
-        for (int i = 0; i < m; ++i) {
-          if (!active_[i]) continue;
-          const int* nz = row_nz_.data() + row_nz_begin_[i];
-          const int k = row_nz_begin_[i + 1] - row_nz_begin_[i];
-          for (int a = 0; a < k; ++a) {
-            const double ga = D[i] * G(i, nz[a]);
-            for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
-          }
-        }
-      } else {
-        int na = 0;
-        for (int i = 0; i < m; ++i)
-          if (active_[i]) S_.col(na++).noalias() = std::sqrt(D[i]) * G.row(i).transpose();
-        if (na > 0) H_.selfadjointView<Eigen::Lower>().rankUpdate(S_.leftCols(na));
-      }
-      for (int j = 0; j < s; ++j)
-        if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
-      factored_ = factorHessian();
-      if (!factored_) return -1;
-    }
+    if (!same_rows && !factorActive(M)) return -1;
     delta_ = -grad_;
     solveHessian(delta_);
     // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
@@ -174,11 +243,12 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     work_.noalias() = M.selfadjointView<Eigen::Lower>() * delta_;
     const double dMd = delta_.dot(work_), dMx = dnu_.dot(work_);
     double c = 0;
-    const double f0 = slope(0.0, dMd, dMx, &c);
+    splitRows(dMd, dMx);
+    const double f0 = slope(0.0, &c);
     if (!(f0 < 0)) break;  // no descent left: the minimiser, to round-off
     double lo = 0, hi = -1, alpha = 1;
     for (int it = 0; it < 60; ++it) {
-      const double f = slope(alpha, dMd, dMx, &c);
+      const double f = slope(alpha, &c);
       if (std::abs(f) <= 1e-14 * std::abs(f0)) break;
       (f < 0 ? lo : hi) = alpha;
       double next = alpha - f / c;
@@ -220,7 +290,18 @@ int TreeNewton::solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eig
     // The targets shifted by the impulses so far: r_i + β_i / D_i.
     for (int i = 0; i < m; ++i) re_[i] = r[i] + beta[i] / D[i];
     for (int j = 0; j < s; ++j) re_[m + j] = single[j].r + single[j].beta / single[j].D;
-    const int taken = minimise(M, nu_f, nu, 1e-3 * tolerance, max_steps);
+    // The first round starts from the minimiser of the quadratic of the rows the warm start
+    // loads (the last step's active set); when that start walks into more kinks than a round
+    // may take, the round runs again from ν as given.
+    const bool first = round == 0;
+    if (first) start_ = nu;
+    int taken = minimise(M, nu_f, nu, 1e-3 * tolerance, max_steps, first);
+    if (first && taken == max_steps) {
+      steps += taken;
+      nu = start_;
+      factored_ = false;
+      taken = minimise(M, nu_f, nu, 1e-3 * tolerance, max_steps, false);
+    }
     // A round that did not reach its minimiser gives impulses D_i times its error: refused.
     if (taken < 0 || taken == max_steps) return -1;
     steps += taken;

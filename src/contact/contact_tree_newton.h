@@ -57,11 +57,25 @@ struct TreeNewton {
 
  private:
   Eigen::MatrixXd H_, S_;
-  Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_;
+  Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_, start_;
   // One round: Newton steps on the cost with the targets re_ until a step moves no row's
-  // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure.
+  // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure. With
+  // from_impulses it starts with predict().
   int minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
-               double tolerance, int max_steps);
+               double tolerance, int max_steps, bool from_impulses);
+  // H_ = M + Σ D_i g_iᵀ g_i over the rows active_ marks, factored; false when not positive
+  // definite.
+  bool factorActive(const Eigen::MatrixXd& M);
+  // z_ = the rows' residuals g_i ν − re_i.
+  void residuals(const Eigen::VectorXd& nu);
+  // The cost at ν with the targets re_ (z_ left at ν, M (ν − ν_f) in work_).
+  double cost(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, const Eigen::VectorXd& nu);
+  // A start from the impulses: ν moved to the minimiser of the quadratic the rows with β_i > 0
+  // make, all taken active whatever their residual at ν (a resting tree's rows stay those of
+  // the last step, whose residuals the new step's small changes put on either side of their
+  // kinks, each of which would cost a Newton step), when that lowers the cost. Returns 1 (a
+  // factorisation made), 0 (no impulse: nothing done), −1 (H not positive definite).
+  int predict(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu);
   // H_ = Lᵀ L in place (L in H_'s lower triangle), eliminating from the last coordinate in and
   // skipping L's zeros: M is zero but where one coordinate is an ancestor of the other (the
   // children come after their parents), so taking the leaves first makes no fill-in, and a
@@ -77,8 +91,14 @@ struct TreeNewton {
   std::vector<int> row_nz_, row_nz_begin_;
   std::vector<char> active_;  // the rows active in H_'s factor
   bool factored_ = false;     // H_'s lower triangle holds the factor for active_
-  // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it).
-  double slope(double alpha, double dMd, double dMx, double* curvature) const;
+  // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it)
+  // and φ'' there. splitRows() sums once the rows that stay on one side of their kink for
+  // every α ≥ 0 (most: the stops far from their limits, the loaded edges pressed further) and
+  // lists the others, the only ones slope() then visits.
+  void splitRows(double dMd, double dMx);
+  double slope(double alpha, double* curvature) const;
+  std::vector<int> crossing_;
+  double fixed_slope_ = 0, fixed_curvature_ = 0;
 };
 
 }  // namespace sim
