@@ -161,10 +161,13 @@ void setTarget(const SolverSettings& st, const SolverWork& work,
                const std::vector<SolverTree>& trees, bool bounce, std::size_t k, ContactRow& c);
 
 /// One Gauss–Seidel sweep of island I's contacts and its trees' limit rows; returns the
-/// largest change of a contact point's velocity (contact_velocity_sweep.cc).
+/// largest change of a contact point's velocity, or of a limited rate (contact_velocity_sweep.cc).
+/// Once a body's or a rate's change reaches `tolerance` the trees' contact points are not
+/// measured: the sweep is then known not to have converged, and what is returned is that
+/// change (≥ tolerance), not the largest.
 double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
-                   bool patch);
+                   bool patch, double tolerance);
 
 /// One pass over tree t's limit rows, on ν (the velocity solve) or on pν (the position
 /// correction, on top of ν); returns the largest change of a rate (contact_tree_limits.cc).

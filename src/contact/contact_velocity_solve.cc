@@ -153,7 +153,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       warmStart(trees, rows, work, I);
     int it = 0;
     for (; it < max_iterations; ++it) {
-      if (sweepIsland(st, trees, rows, work, I, patch) < tolerance) {
+      if (sweepIsland(st, trees, rows, work, I, patch, tolerance) < tolerance) {
         ++it;
         break;
       }

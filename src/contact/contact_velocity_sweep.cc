@@ -142,7 +142,7 @@ __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st
 
 double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
-                   bool patch) {
+                   bool patch, double tolerance) {
   forBodies(work, I, [&](int s) { work.vel_sweep[s] = work.vel[s]; });
   forTrees(work, trees, I, [](SolverTree& t) { t.nu_sweep = t.nu; });
   for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
@@ -158,7 +158,9 @@ double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
     limit_change = std::max(limit_change, sweepVelocityLimits(t, st.h));
   });
   double change = std::max(bodyChange(work, I), limit_change);
-  if (I.trees > 0) {  // a tree's change as its contact points see it
+  // A tree's change as its contact points see it, unless the sweep is already known not to
+  // have converged (a tree's stops take many sweeps: this is most of them).
+  if (I.trees > 0 && change < tolerance) {
     forTrees(work, trees, I, [](SolverTree& t) { t.nu_sweep = t.nu - t.nu_sweep; });
     forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
       if (onTree(c))
