@@ -34,10 +34,12 @@ double setBiases(const SolverSettings& st, std::vector<ContactRow>& rows) {
 }
 
 // One Gauss–Seidel sweep of island I's pseudo-impulses, with its trees' limit rows; returns the
-// largest change of a contact point's pseudo-velocity.
+// largest change of a contact point's pseudo-velocity, or, once a body's or a limited rate's
+// change reaches `tolerance`, that change (the sweep has not converged: the trees' contact
+// points are not measured), as sweepIsland does.
 double sweepPositions(const SolverSettings& st, std::vector<SolverTree>& trees,
-                      std::vector<ContactRow>& rows, SolverWork& work,
-                      const SolverWork::Island& I) {
+                      std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
+                      double tolerance) {
   forBodies(work, I, [&](int s) { work.vel_sweep[s] = work.vel[s]; });
   forTrees(work, trees, I, [](SolverTree& t) { t.pnu_sweep = t.pnu; });
   forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
@@ -54,7 +56,7 @@ double sweepPositions(const SolverSettings& st, std::vector<SolverTree>& trees,
   forTrees(work, trees, I, [&](SolverTree& t) {  // within the limits
     change = std::max(change, sweepPositionLimits(t, st.h));
   });
-  if (I.trees > 0) {
+  if (I.trees > 0 && change < tolerance) {
     forTrees(work, trees, I, [](SolverTree& t) { t.pnu_sweep = t.pnu - t.pnu_sweep; });
     forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
       if (onTree(c))
@@ -100,9 +102,9 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
         correctTreePositions(st, trees, rows, work, I))
       continue;
     detail::finishTreeResponses(trees, rows, work, I);
+    const double tolerance = 1e-3 * island_bias;  // 0.1 % of the island's largest correction
     for (int it = 0; it < st.position_iterations; ++it)
-      if (detail::sweepPositions(st, trees, rows, work, I) < 1e-3 * island_bias)
-        break;  // 0.1 % of the island's largest correction
+      if (detail::sweepPositions(st, trees, rows, work, I, tolerance) < tolerance) break;
   }
   for (std::size_t s = 0; s < n; ++s) {
     bodies[s].pv = work.vel[s].v;
