@@ -14,6 +14,14 @@
 
 namespace cga_rigid_sim {
 namespace node {
+namespace {
+
+// Fewer frames than this are filled and sent on the main thread even with ~threads > 1: a
+// thread started per tick, and the main thread waiting for it while the subscribers' processes
+// hold the other cores, costs more than filling a few hundred transforms (doc/node.md).
+constexpr std::size_t kFramesWorthAThread = 500;
+
+}  // namespace
 
 void Simulator::publishOutputs() {
   const std::uint64_t s = world_->stepCount();
@@ -56,7 +64,8 @@ void Simulator::publishOutputs() {
     }
   };
   std::future<void> helper;
-  if (world_->config().threads > 1 && (want_tf || want_states)) {
+  const std::size_t frames_sent = want_states ? states.size() : frames.size();
+  if (world_->config().threads > 1 && frames_sent >= kFramesWorthAThread) {
     try {
       helper = std::async(std::launch::async, send_tf_and_states);
     } catch (const std::system_error&) {  // no thread to be had: done here instead
