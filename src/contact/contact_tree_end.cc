@@ -240,10 +240,7 @@ bool finishTreeContactStep(const Model& model, Data& data, int t) {
   e.kin = data.tree_scratch.end_kin;
   e.has_mass = mass;
   if (mass) e.M = data.tree_scratch.split_M;
-  e.q = td.state.q;
-  e.v = td.state.v;
-  e.M_W0 = td.state.M_W0;
-  e.omega_0 = td.state.omega_0;
+  e.state = td.state;
   e.valid = true;
   return true;
 }

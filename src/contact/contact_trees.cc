@@ -188,21 +188,6 @@ void makeLimitRows(const dynamics::ArticulatedBody& tree, const TreeData& td, So
   }
 }
 
-// Whether tree state s is, to the bit, the one a contact step ended in.
-bool sameState(const dynamics::TreeState& s, const TreeData::ContactEnd& e) {
-  const auto same = [](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-    if (x.size() != y.size()) return false;
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (x[i] != y[i]) return false;
-    return true;
-  };
-  const auto same3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
-    return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
-  };
-  return s.M_W0.coefficients() == e.M_W0.coefficients() && same(s.q, e.q) && same(s.v, e.v) &&
-         same3(s.omega_0.rot, e.omega_0.rot) && same3(s.omega_0.trans, e.omega_0.trans);
-}
-
 }  // namespace
 
 double treeEnergy(const Model& model, int t, const dynamics::TreeKinematics& kin) {
@@ -237,7 +222,7 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
   // The kinematics and M(q) the last contact step left, when the tree is still in its state.
   const TreeData::ContactEnd& end = td.contact_end;
-  const bool from_end = end.valid && sameState(td.state, end);
+  const bool from_end = end.valid && dynamics::identical(td.state, end.state);
   if (from_end)
     S.kin = end.kin;  // (copies into storage of the same size: no allocation)
   else

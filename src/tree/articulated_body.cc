@@ -140,5 +140,20 @@ Eigen::Matrix<double, 6, 6> adjointMatrix(const cga::Motor& M, double lambda) {
   return X;
 }
 
+// Plain loops: Eigen's == costs a call per comparison here.
+bool identical(const TreeState& a, const TreeState& b) {
+  const auto same = [](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    if (x.size() != y.size()) return false;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (x[i] != y[i]) return false;
+    return true;
+  };
+  const auto same3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+    return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+  };
+  return a.M_W0.coefficients() == b.M_W0.coefficients() && same(a.q, b.q) && same(a.v, b.v) &&
+         same3(a.omega_0.rot, b.omega_0.rot) && same3(a.omega_0.trans, b.omega_0.trans);
+}
+
 }  // namespace dynamics
 }  // namespace cga_rigid_sim

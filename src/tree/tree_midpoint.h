@@ -56,28 +56,13 @@ class Midpoint final : public TreeIntegrator {
   int lastHalvings() const { return halvings_; }
 
  private:
-  bool sameAsCached(const TreeState& s) const { return cached_ && sameState(s, last_); }
+  bool sameAsCached(const TreeState& s) const { return cached_ && identical(s, last_); }
   // Whether the step starts from the state startFrom() was given (its kinematics in kin_).
-  bool startsAtHint(const TreeState& s) const { return start_hint_ && sameState(s, hint_state_); }
-  static bool sameState(const TreeState& s, const TreeState& t) {
-    const auto a = s.M_W0.coefficients(), b = t.M_W0.coefficients();
-    const auto equal3 = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
-      return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
-    };
-    return a == b && same(s.q, t.q) && same(s.v, t.v) && equal3(s.omega_0.rot, t.omega_0.rot) &&
-           equal3(s.omega_0.trans, t.omega_0.trans);
-  }
+  bool startsAtHint(const TreeState& s) const { return start_hint_ && identical(s, hint_state_); }
   // No NaN or infinity (a loop: Eigen's allFinite compares x − x with itself through a call).
   static bool finite(const Eigen::VectorXd& x) {
     for (Eigen::Index i = 0; i < x.size(); ++i)
       if (!std::isfinite(x[i])) return false;
-    return true;
-  }
-  // Equal sizes and entries (plain loops: Eigen's == costs a call per comparison here).
-  static bool same(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-    if (x.size() != y.size()) return false;
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (x[i] != y[i]) return false;
     return true;
   }
 

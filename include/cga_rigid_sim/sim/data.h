@@ -165,9 +165,7 @@ struct TreeData {
     bool valid = false, has_mass = false;
     dynamics::TreeKinematics kin;
     Eigen::MatrixXd M;
-    Eigen::VectorXd q, v;
-    cga::Motor M_W0;
-    cga::Bivelocity omega_0;
+    dynamics::TreeState state;
   } contact_end;
 };
 

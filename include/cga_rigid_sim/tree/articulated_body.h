@@ -157,6 +157,10 @@ struct TreeState {
   }
 };
 
+/// Whether two states are the same to the bit (+0 and −0 equal; a NaN equals nothing): what a
+/// cache of a state's kinematics or mass matrix is checked against.
+bool identical(const TreeState& a, const TreeState& b);
+
 /// Per body b: pose M_Wb, motor to the parent's frame M_pb (b ≥ 1), bivelocity Ω_b; and M_pb
 /// as the blocks of its adjoint matrix (doc/articulated.md (A1)) — the rotation matrix R_P and
 /// the translation over λ, t_P — with which the recursions change frames.
