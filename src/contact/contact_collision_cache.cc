@@ -113,6 +113,7 @@ CollisionCache::Shape makeShape(const Shape& s, int body, int index) {
       makeMeshShape(s, out);
       break;
   }
+  out.box_half_S = boxHalfSides(out);
   return out;
 }
 

@@ -9,6 +9,7 @@
 //   contact_shape_pairs.cc       every other pair: a hull and a hull, box, sphere or cylinder
 //                                by contact_convex_pairs.cc, the rest through FCL
 //   contact_convex_pairs.cc      those pairs through libccd's MPR, allocation-free
+//   contact_box_separation.cc    the shapes' boxes, which tell most pairs apart before MPR
 //   contact_overlap_warnings.cc  the overlaps a World reports when it is created
 #pragma once
 
@@ -51,6 +52,9 @@ class CollisionCache {
     std::vector<Eigen::Vector3d> vertices_S;  ///< box corners, mesh hull vertices (plane test)
     Eigen::Vector3d centre_S = Eigen::Vector3d::Zero();  ///< the bounding sphere's centre in S
     double bound = 0.0;                                  ///< bounding radius about centre_S, m
+    /// Half the sides of a box about centre_S, along S's axes, holding the shape as the narrow
+    /// phase sees it (margins included), with a little to spare (contact_box_separation.cc).
+    Eigen::Vector3d box_half_S = Eigen::Vector3d::Zero();
     /// The FCL geometry is this much larger on every side (0 for meshes), so that bodies
     /// about to touch are found a step early: a pair's depth is FCL's minus both margins.
     double margin = 0.0;
@@ -132,6 +136,16 @@ std::shared_ptr<CollisionCache::Hull> makeHull(
 bool convexPairContact(CollisionCache::Shape& a, const Eigen::Isometry3d& M_WA,
                        CollisionCache::Shape& b, const Eigen::Isometry3d& M_WB,
                        Eigen::Vector3d& point_W, Eigen::Vector3d& normal_W, double& depth);
+
+/// The box that holds shape `s` as the narrow phase sees it, for Shape::box_half_S: its hull's
+/// or inflated primitive's extent along S's axes about centre_S, widened by a spare
+/// (contact_box_separation.cc).
+Eigen::Vector3d boxHalfSides(const CollisionCache::Shape& s);
+
+/// Whether the boxes of shapes s1 and s2 at their placed poses are apart (a separating axis
+/// among the 15 of two boxes): then the shapes are, and the narrow phase would find nothing
+/// (contact_box_separation.cc).
+bool boxesApart(const CollisionCache& cache, int s1, int s2);
 
 /// Appends the contacts of shapes s1 (side a) and s2 (side b) at their placed poses
 /// (contact_shape_pairs.cc).
