@@ -20,18 +20,25 @@ Eigen::Matrix<double, 6, 1> twistOf(const Eigen::Matrix<double, 6, 6>& X, const 
 }
 
 // The loads' generalized acceleration ν̇ = M⁻¹ (τ + Q) of tree t, into the kick scratch (with
-// the links' external moments f): what ABA gives at rest in the same pose, with no velocity
-// terms (they belong to the drift).
-void accelerationAtRest(const Model& model, Data& data, int t) {
+// the links' external moments f), at rest in the same pose, with no velocity terms (they
+// belong to the drift): from M's factor when it is given (Q by the RNEA's inward pass, O(n),
+// and the factor's sparse solve), else by ABA (mimic joints, servos).
+void accelerationAtRest(const Model& model, Data& data, int t, const TreeFactor* factor) {
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
   const TreeData& td = data.trees[t];
   TreeStageScratch::Kick& S = data.tree_scratch.kick;
-  S.state = td.state;
-  S.state.omega_0 = cga::Bivelocity();
-  S.state.v.setZero();
   S.still = S.kin;
   for (auto& w : S.still.omega) w = cga::Bivelocity();
   dynamics::externalMoments(tree, S.still, td.loads, S.f);
+  if (factor) {
+    dynamics::forcesAtRest(tree, S.still, td.loads.effort, S.f, S.nu_dot,
+                           data.tree_scratch.algorithms);
+    factor->solveInPlace(S.nu_dot);
+    return;
+  }
+  S.state = td.state;
+  S.state.omega_0 = cga::Bivelocity();
+  S.state.v.setZero();
   dynamics::forwardDynamics(tree, S.state, S.still, td.loads.effort, S.f, S.nu_dot,
                             data.tree_scratch.algorithms);
 }
@@ -228,14 +235,21 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
   else
     dynamics::treeKinematics(tree, td.state, S.kin);
   td.contact_energy_start = treeEnergy(model, t, S.kin);
-  accelerationAtRest(model, data, t);
   if (from_end && end.has_mass)
     out.M = end.M;
   else
     dynamics::massMatrix(tree, S.kin, out.M, data.tree_scratch.algorithms);
+  // M's factor, which the solve needs, also gives the kick's acceleration (without mimic
+  // joints, whose solve works on M_r, and servos, whose kick is implicit).
+  const bool by_factor = !tree.hasMimic() && !td.loads.servos.active();
+  if (by_factor) {
+    makeCoordinates(model, data, tree, out);
+    out.factor.compute(out.M, out.coordinate_parent);
+  }
+  accelerationAtRest(model, data, t, by_factor && out.factor.ok() ? &out.factor : nullptr);
   if (td.loads.servos.active()) {  // their efforts for the step, then the kick with them
     kickServos(model, data, t, out.M);
-    accelerationAtRest(model, data, t);
+    accelerationAtRest(model, data, t, nullptr);
   }
   td.contact_power_start = treeInputPower(model, data, t, S.kin, td.state.v);
   if (tree.floating()) noteExpectedMomentum(model, data, t);
@@ -249,8 +263,10 @@ void kickTree(const Model& model, Data& data, int t, SolverTree& out,
 
   noteEnergySlack(model, data, t, out);
   onIndependentCoordinates(data, tree, out);
-  makeCoordinates(model, data, tree, out);
-  out.factor.compute(out.M, out.coordinate_parent);
+  if (!by_factor) {
+    makeCoordinates(model, data, tree, out);
+    out.factor.compute(out.M, out.coordinate_parent);
+  }
   makeLimitRows(tree, td, out);
 
   S.state = td.state;

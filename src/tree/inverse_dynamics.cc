@@ -1,6 +1,7 @@
 // RNEA over an ArticulatedBody (doc/articulated.md#rnea): velocities and accelerations outward,
 // forces inward.
 #include "cga_rigid_sim/tree/articulated_body.h"
+#include "cga_rigid_sim/tree/tree_workspace.h"
 #include "tree/tree_math.h"
 
 namespace cga_rigid_sim {
@@ -36,6 +37,23 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
   }
   if (tree.floating()) out.head<6>() = tree_math::vec(f[0]);
   return out;
+}
+
+void forcesAtRest(const ArticulatedBody& tree, const TreeKinematics& kin,
+                  const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& Q,
+                  TreeWorkspace& work) {
+  const int n = tree.jointCount();
+  // The RNEA's inward pass alone: at rest no body accelerates and none has a gyroscopic
+  // moment, so each body's force is its external moment, summed over its subtree.
+  std::vector<cga::Moment>& F = work.subtree_moments;
+  F.assign(f_ext.begin(), f_ext.end());
+  Q.resize(tree.velocityCount());
+  for (int k = n - 1; k >= 0; --k) {
+    const int b = k + 1, p = tree.joints()[k].parent;
+    Q[tree.velocityIndex(k)] = tau[k] + tree_math::pairing(F[b], tree.screwInChild(k));
+    if (p != 0 || tree.floating()) F[p] += tree_math::toParent(kin, b, F[b]);
+  }
+  if (tree.floating()) Q.head<6>() = tree_math::vec(F[0]);
 }
 
 }  // namespace dynamics

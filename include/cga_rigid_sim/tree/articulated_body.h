@@ -224,6 +224,14 @@ Eigen::VectorXd inverseDynamics(const ArticulatedBody& tree, const TreeState& st
                                 const TreeKinematics& kin, const Eigen::VectorXd& nu_dot,
                                 const BodyMoments& f_ext);
 
+/// The generalized forces that joint efforts `tau` (size n) and external moments exert on a tree
+/// at rest, Q = [0; τ] + Jᵀ f_ext (minus the RNEA's forces at ν = 0, ν̇ = 0; the floating base's
+/// first, in body 0's frame): M(q) ν̇ = Q is the motion they start. O(n), into `Q`, with its
+/// work array in `work` (no allocation once Q and work have their sizes).
+void forcesAtRest(const ArticulatedBody& tree, const TreeKinematics& kin,
+                  const Eigen::VectorXd& tau, const BodyMoments& f_ext, Eigen::VectorXd& Q,
+                  TreeWorkspace& work);
+
 /// ABA: the accelerations ν̇ under joint efforts `tau` (size n) and external moments, O(n).
 /// With mimic joints the accelerations the constraints allow, ν̇ = G M_r⁻¹ Gᵀ (τ − b), from the
 /// CRBA and the RNEA instead (ABA's recursion cannot hold a constraint between branches).
