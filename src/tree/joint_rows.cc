@@ -14,7 +14,7 @@ constexpr double kSweepTolerance = 1e-14;
 constexpr int kMaxSweeps = 100;
 }  // namespace
 
-void JointRows::solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
+void JointRows::solve(const ArticulatedBody& tree, const tree_math::TreeCholesky& llt,
                       const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar) {
   rows_.clear();
   held_.clear();
@@ -89,7 +89,8 @@ void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) 
   applyMimicPositions(tree, q);
 }
 
-void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
+template <class Factor>
+void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
                StopScratch& s) {
   const int m = static_cast<int>(held.size()), n = static_cast<int>(nu.size());
   if (m == 0) return;
@@ -120,7 +121,12 @@ void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eig
   for (int c = 0; c < m; ++c) nu[held[c]] = 0.0;  // exactly, not to round-off
 }
 
-bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::Cholesky& llt,
+template void stopRates(const tree_math::Cholesky&, const std::vector<int>&, Eigen::VectorXd&,
+                        StopScratch&);
+template void stopRates(const tree_math::TreeCholesky&, const std::vector<int>&, Eigen::VectorXd&,
+                        StopScratch&);
+
+bool JointRows::stopHeld(const ArticulatedBody&, const tree_math::TreeCholesky& llt,
                          Eigen::VectorXd& nu) const {
   if (held_.empty()) return false;
   stopRates(llt, held_, nu, stop_);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/tree/articulated_body.h"
+#include "tree/tree_factor.h"
 #include "tree/tree_math.h"
 
 namespace cga_rigid_sim {
@@ -32,7 +33,9 @@ struct StopScratch {
   Eigen::MatrixXd AE, G;
   Eigen::VectorXd e, v, dnu;
 };
-void stopRates(const tree_math::Cholesky& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
+/// (Factor: tree_math::Cholesky or TreeCholesky.)
+template <class Factor>
+void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
                StopScratch& scratch);
 
 class JointRows {
@@ -43,14 +46,14 @@ class JointRows {
   void newMatrix() { ++matrix_; }
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step),
   /// with llt the matrix of the last newMatrix() call.
-  void solve(const ArticulatedBody& tree, const tree_math::Cholesky& llt, const Eigen::VectorXd& q,
-             double h, Eigen::VectorXd& nu_bar);
+  void solve(const ArticulatedBody& tree, const tree_math::TreeCholesky& llt,
+             const Eigen::VectorXd& q, double h, Eigen::VectorXd& nu_bar);
   /// Positions within the limits (removes the round-off of q + h ν̄ at a stop); mimic joints'
   /// positions set from their leaders'.
   void clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) const;
   /// Sets the rates of held joints to zero with the impulse that does it in the metric of M
   /// (llt: M at the new pose). Returns whether anything was held.
-  bool stopHeld(const ArticulatedBody& tree, const tree_math::Cholesky& llt,
+  bool stopHeld(const ArticulatedBody& tree, const tree_math::TreeCholesky& llt,
                 Eigen::VectorXd& nu) const;
   /// The impulses of the last solve as a vector over ν (zero where no row acts).
   void impulses(Eigen::VectorXd& y) const {

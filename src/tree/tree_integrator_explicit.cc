@@ -191,7 +191,7 @@ class Explicit final : public TreeIntegrator {
   // by Rodrigues, CRBA, RNEA bias, Cholesky); the rest ABA on the full kinematics, and a tree
   // with mimic joints forwardDynamics' constrained accelerations.
   static bool fused(const ArticulatedBody& tree, const TreeLoads& loads) {
-    return MidpointResidual::applies(tree, loads) && !tree.hasMimic();
+    return !tree.floating() && MidpointResidual::applies(tree, loads) && !tree.hasMimic();
   }
   void acceleration(const ArticulatedBody& tree, const TreeLoads& loads, const TreeState& s,
                     Eigen::VectorXd& out) {

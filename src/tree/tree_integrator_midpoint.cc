@@ -81,8 +81,8 @@ inline void Midpoint::factorMass(const ArticulatedBody& tree, bool at_end_pose, 
 
 // M + ½hC from the M of factorMass(): the matrix of the iteration and the metric of its joint
 // rows; M's own factor when no joint is damped.
-inline const tree_math::Cholesky& Midpoint::iterationMatrix(const ArticulatedBody& tree,
-                                                            const TreeLoads& loads, double h) {
+inline const tree_math::TreeCholesky& Midpoint::iterationMatrix(const ArticulatedBody& tree,
+                                                                const TreeLoads& loads, double h) {
   const bool servos = loads.servos.active();
   if (!damped(tree) && !servos) return llt_;
   Md_ = M_;
@@ -175,6 +175,7 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   const bool mimic = tree.hasMimic();
   const double lambda = tree.lambda();
   kin_at_state_ = false;
+  factorParents(tree);
   const bool fresh = sameAsCached(state);
   // The kinematics (and M) startFrom() gave for this state, else none: taken once.
   const bool hinted = !fresh && startsAtHint(state);
@@ -219,7 +220,7 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
     if (fresh) treeKinematics(tree, state, kin_);  // (a state set from outside has them now)
     factorMass(tree, false, iterate_on_M);
   }
-  const tree_math::Cholesky& A = iterationMatrix(tree, loads, h);
+  const tree_math::TreeCholesky& A = iterationMatrix(tree, loads, h);
   rows_.newMatrix();
   servoed_ = loads.servos.active();
   y_.setZero(nv);
@@ -228,8 +229,9 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   double last_change = INFINITY, final_change = 0.0, final_scale = 1.0;
   // Iterate ν̄ ← ν̄ + A (r(ν̄) + y), A = (M + ½hC)⁻¹ at the step's start, r the residual of the
   // midpoint equations (M(q̄)ν̄ from the momentum recursion, O(n)); then the joint rows.
-  // A fixed base under gravity alone (the common case) takes the fused passes of
-  // MidpointResidual; the general path evaluates kinematics, loads and momenta in turn.
+  // A fixed base under gravity alone (the common case) and a floating base without gravity or
+  // loads (a contact step's drift) take the fused passes of MidpointResidual, which need no
+  // world poses; the general path evaluates kinematics, loads and momenta in turn.
   const bool fused = MidpointResidual::applies(tree, loads);
   if (!fused) mid_ = state;  // the general path's midpoint state
   const bool loaded =
@@ -239,7 +241,7 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   // A fixed base's end pose comes from the residual's constants (MidpointResidual::endPose),
   // which leaves the sines and cosines of the next step's start behind.
   const bool fixed = !tree.floating();
-  if (fixed) residual_.prepare(tree);
+  if (fixed || fused) residual_.prepare(tree);
   if (fused && !(fresh && start_at_last_)) residual_.startAt(state.q);
   start_at_last_ = false;
   for (int it = 0; it < kMaxIterations; ++it) {
@@ -248,6 +250,10 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
     if (mimic) expandVelocity(tree, nu_bar_, nu_full_);
     const Eigen::VectorXd& nu_all = mimic ? nu_full_ : nu_bar_;
     if (fused) {
+      // (A floating base's fused passes have no gravity: its axes at the midpoint serve only
+      // the momentum's equation below.)
+      if (tree.floating())
+        mid_.M_W0 = state.M_W0 * cga::exp(tree_math::bivector(nu_all.head<6>()) * (-0.25 * h));
       residual_.evaluate(state.q, loads.gravity_W, h, nu_all, pm_, grad_);
     } else {
       mid_.q = state.q + (0.5 * h) * nu_all.tail(n);

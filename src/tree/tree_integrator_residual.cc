@@ -32,11 +32,24 @@ inline void addToParent(const double* R, const double* t, const double* H, const
   }
 }
 
+// The same for H alone (no external moments: a floating base's drift).
+inline void addToParent(const double* R, const double* t, const double* H, double* Hp) {
+  double RHf[3], RH[3], tH[3];
+  mul(R, H + 3, RHf);
+  mul(R, H, RH);
+  cross(t, RHf, tH);
+  for (int i = 0; i < 3; ++i) {
+    Hp[i] += RH[i] + tH[i];
+    Hp[i + 3] += RHf[i];
+  }
+}
+
 }  // namespace
 
 bool MidpointResidual::applies(const ArticulatedBody& tree, const TreeLoads& loads) {
-  if (tree.floating()) return false;
-  for (std::size_t b = 1; b < loads.applied.size(); ++b)
+  // A floating base only without gravity: its world wrench W would need the links' world poses.
+  if (tree.floating() && !loads.gravity_W.isZero(0.0)) return false;
+  for (std::size_t b = tree.floating() ? 0 : 1; b < loads.applied.size(); ++b)
     if (loads.applied[b]) return false;
   return true;
 }
@@ -46,6 +59,7 @@ void MidpointResidual::startAt(const Eigen::VectorXd& q) {
 }
 
 double MidpointResidual::gravityPower() const {
+  if (floating_) return 0.0;  // (no gravity: applies())
   double power = 0.0;
   for (int k = 0; k < joints_; ++k) {
     const Body& b = body_[k + 1];
@@ -54,26 +68,46 @@ double MidpointResidual::gravityPower() const {
   return power;
 }
 
-void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g, double h,
                                 const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
                                 Eigen::VectorXd& gradient) {
-  const int n = joints_;
-  p.resize(n);
+  if (floating_)
+    passes<true>(q, g, h, nu_bar, p, gradient);
+  else
+    passes<false>(q, g, h, nu_bar, p, gradient);
+}
+
+// The passes of evaluate(). Floating: the base's own bivelocity is ν̄'s first six entries, its
+// momentum gathers the links' and is the first six of p, and there is no gravity (applies()):
+// no external moments are carried.
+template <bool Floating>
+inline void MidpointResidual::passes(const Eigen::VectorXd& q, const Eigen::Vector3d& g_0, double h,
+                                     const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p,
+                                     Eigen::VectorXd& gradient) {
+  constexpr bool kGravity = !Floating;
+  const int n = joints_, off = Floating ? 6 : 0;
+  p.resize(n + off);
   gradient.resize(n);
   Body* const bodies = body_.data();
   {
     Body& base = bodies[0];
     for (int i = 0; i < 3; ++i) {
-      base.g[i] = g_W[i];
-      base.w[i] = base.u[i] = 0.0;
+      if (kGravity) base.g[i] = g_0[i];
+      base.w[i] = Floating ? nu_bar[i] : 0.0;
+      base.u[i] = Floating ? nu_bar[i + 3] : 0.0;
     }
+    if (Floating)
+      for (int i = 0; i < 3; ++i) {
+        base.H[i] = base_J_[i] * base.w[i];
+        base.H[i + 3] = base_m2_ * base.u[i];
+      }
   }
   // Outward: frames, gravity, bivelocities, momenta and the external moments.
   for (int k = 0; k < n; ++k) {
     const Joint& j = joint_[k];
     Body& b = bodies[k + 1];
     const Body& pa = bodies[j.parent];
-    const double v = nu_bar[k];
+    const double v = nu_bar[off + k];
     double R[9], t[3];
     if (j.revolute) {
       // sin, cos of ½q̄ = ½q + ¼h q̄̇; then sin q̄ = 2 sin cos, 1 − cos q̄ = 2 sin².
@@ -108,7 +142,7 @@ void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d&
     double w[3], u[3], g[3];
     mulT(R, pw, w);
     mulT(R, pu, u);
-    mulT(R, pg, g);
+    if (kGravity) mulT(R, pg, g);
     for (int i = 0; i < 3; ++i) {
       w[i] += v * j.s[i];
       u[i] += v * j.s[i + 3];
@@ -116,12 +150,14 @@ void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d&
     for (int i = 0; i < 3; ++i) {
       b.w[i] = w[i];
       b.u[i] = u[i];
-      b.g[i] = g[i];
       b.t[i] = t[i];
       b.H[i] = j.J[i] * w[i];
       b.H[i + 3] = j.m2 * u[i];
-      b.F[i] = 0.0;
-      b.F[i + 3] = j.lm * g[i];
+      if (kGravity) {
+        b.g[i] = g[i];
+        b.F[i] = 0.0;
+        b.F[i + 3] = j.lm * g[i];
+      }
     }
     for (int i = 0; i < 9; ++i) b.R[i] = R[i];
   }
@@ -131,20 +167,24 @@ void MidpointResidual::evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d&
     const Joint& j = joint_[k];
     const Body& b = bodies[k + 1];
     const double* s = j.s;
-    p[k] = dot(b.H, s) + dot(b.H + 3, s + 3);
+    p[off + k] = dot(b.H, s) + dot(b.H + 3, s + 3);
     double sw[3], su[3], mw[3];
     cross(s, b.w, sw);
     cross(s, b.u, su);
     cross(s + 3, b.w, mw);
-    double g = dot(b.F, s) + dot(b.F + 3, s + 3);
+    double g = kGravity ? dot(b.F, s) + dot(b.F + 3, s + 3) : 0.0;
     g -= dot(b.H, sw) + b.H[3] * (su[0] + mw[0]) + b.H[4] * (su[1] + mw[1]) +
          b.H[5] * (su[2] + mw[2]);
     gradient[k] = g;
-    if (j.parent != 0) {
+    if (Floating) {
+      addToParent(b.R, b.t, b.H, bodies[j.parent].H);
+    } else if (j.parent != 0) {
       Body& pa = bodies[j.parent];
       addToParent(b.R, b.t, b.H, b.F, pa.H, pa.F);
     }
   }
+  if (Floating)
+    for (int i = 0; i < 6; ++i) p[i] = bodies[0].H[i];
 }
 
 }  // namespace dynamics

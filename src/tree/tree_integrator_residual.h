@@ -1,10 +1,11 @@
 // MidpointResidual: the residual of the variational midpoint's equations (tree_integrator_
 // midpoint.cc) in one outward and one inward pass, for the common case of a fixed-base tree
-// under gravity and joint efforts alone (no loads applied to its links); on the same constants
-// also the explicit integrators' stage for that case (accelerations()). Internal. Defined in
-// tree_integrator_residual.cc (the residual passes), tree_residual_pose.cc (the tree's constants,
-// the end pose and its velocities) and tree_residual_dynamics.cc (the mass matrix and the
-// explicit stage), with the joint frames of tree_residual_frames.h.
+// under gravity and joint efforts alone (no loads applied to its links), and for a floating
+// base without gravity or loads (a contact step's drift, doc/contacts.md#trees); on the same
+// constants also the explicit integrators' stage for a fixed base (accelerations()). Internal.
+// Defined in tree_integrator_residual.cc (the residual passes), tree_residual_pose.cc (the tree's
+// constants, the end pose and its velocities) and tree_residual_dynamics.cc (the mass matrix and
+// the explicit stage), with the joint frames of tree_residual_frames.h.
 //
 // At the midpoint q̄ = q + ½h q̄̇ with rates q̄̇ it yields what treeKinematics, gravityMoments and
 // momentumAndGradient together yield there — the joint momenta p = M(q̄) q̄̇ and the gradient
@@ -37,8 +38,9 @@ namespace dynamics {
 
 class MidpointResidual {
  public:
-  /// Whether these passes apply to a step of `tree` under `loads`: a fixed base and no loads
-  /// applied to its links (the general path handles the rest).
+  /// Whether these passes apply to a step of `tree` under `loads`: no loads applied to its
+  /// links, and for a floating base no gravity either (a contact step's drift); the general
+  /// path handles the rest.
   static bool applies(const ArticulatedBody& tree, const TreeLoads& loads);
   /// The tree's constants (recomputed when called with another tree than the last).
   void prepare(const ArticulatedBody& tree);
@@ -56,9 +58,12 @@ class MidpointResidual {
   /// treeVelocities() to round-off.
   void velocities(const Eigen::VectorXd& v, TreeKinematics& kin) const;
   /// At the midpoint of a step of h from the positions q of startAt() with midpoint rates
-  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q. Sizes are kept: no
-  /// allocation once sized.
-  void evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g_W, double h,
+  /// q̄̇ = nu_bar: the joint momenta p and the gradient ∂L/∂q + Q, under gravity g (world
+  /// axes: a fixed base's). A floating base has no gravity here (applies()): g is not read, its
+  /// midpoint bivelocity is nu_bar's first six entries, and p's first six are the tree's
+  /// momentum in the base's axes (the base's subtree momentum H_0, what momentumAndGradient
+  /// gives there). Sizes are kept: no allocation once sized.
+  void evaluate(const Eigen::VectorXd& q, const Eigen::Vector3d& g, double h,
                 const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
   /// The power of gravity at the last evaluate()'s midpoint, Σ ⟨F_b, Ω_b⟩ (needed once a
   /// step, not in every pass).
@@ -74,6 +79,10 @@ class MidpointResidual {
                      const Eigen::VectorXd& tau, Eigen::VectorXd& qdd);
 
  private:
+  template <bool Floating>
+  void passes(const Eigen::VectorXd& q, const Eigen::Vector3d& g_0, double h,
+              const Eigen::VectorXd& nu_bar, Eigen::VectorXd& p, Eigen::VectorXd& gradient);
+
   struct Joint {
     bool revolute = true;
     int parent = 0;
@@ -111,6 +120,8 @@ class MidpointResidual {
   using Composite = tree_math::Composite;
   const ArticulatedBody* tree_ = nullptr;
   int joints_ = -1;
+  bool floating_ = false;
+  double base_J_[3] = {0.0, 0.0, 0.0}, base_m2_ = 0.0, base_lm_ = 0.0;  // a floating base's
   std::vector<Joint> joint_;
   std::vector<Body> body_;
   std::vector<Frame> frame_;

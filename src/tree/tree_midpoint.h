@@ -12,6 +12,7 @@
 
 #include "cga_rigid_sim/tree/tree_integrator.h"
 #include "tree/joint_rows.h"
+#include "tree/tree_factor.h"
 #include "tree/tree_integrator_residual.h"
 #include "tree/tree_math.h"
 
@@ -77,9 +78,17 @@ class Midpoint final : public TreeIntegrator {
     }
     return damped_;
   }
+  // The factors' coordinate parents (tree_factor.h), set once per tree.
+  void factorParents(const ArticulatedBody& tree) {
+    if (&tree == factor_tree_) return;
+    factor_tree_ = &tree;
+    const std::vector<int> parent = tree_math::coordinateParents(tree);
+    llt_.setParents(parent);
+    llt_damped_.setParents(parent);
+  }
   // M + ½hC (+ ½h Kd + ¼h² Kp with servos), the iteration's matrix, factored.
-  const tree_math::Cholesky& iterationMatrix(const ArticulatedBody& tree, const TreeLoads& loads,
-                                             double h);
+  const tree_math::TreeCholesky& iterationMatrix(const ArticulatedBody& tree,
+                                                 const TreeLoads& loads, double h);
   // The effort the joints take at the midpoint (q + ½h ν̄, ν̄): the loads' own, or with servos
   // effort plus servo, clamped, into effort_.
   const Eigen::VectorXd& midpointEffort(const ArticulatedBody& tree, const TreeLoads& loads,
@@ -154,7 +163,9 @@ class Midpoint final : public TreeIntegrator {
   TreeWorkspace work_;  // the tree algorithms' work arrays
   BodyMoments f_ext_, zeros_;
   Eigen::MatrixXd M_, Md_;  // M at the last pose factorMass() saw, and M + ½hC
-  tree_math::Cholesky llt_, llt_damped_;
+  // Factored on the tree's sparsity (tree_factor.h).
+  tree_math::TreeCholesky llt_, llt_damped_;
+  const ArticulatedBody* factor_tree_ = nullptr;  // whose parents the factors have
   JointRows rows_;
   MidpointResidual residual_;
 };

@@ -28,6 +28,13 @@ void MidpointResidual::prepare(const ArticulatedBody& tree) {
     cos_half_.assign(joints_, 1.0);
   }
   const double lambda = tree.lambda();
+  floating_ = tree.floating();
+  if (floating_) {
+    const Inertia& I = tree.inertiaOf(0);
+    for (int i = 0; i < 3; ++i) base_J_[i] = I.principalMoments()[i];
+    base_m2_ = I.mass() * lambda * lambda;
+    base_lm_ = lambda * I.mass();
+  }
   joint_.assign(joints_, Joint());
   for (int k = 0; k < joints_; ++k) {
     Joint& j = joint_[k];

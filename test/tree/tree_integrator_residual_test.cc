@@ -1,7 +1,8 @@
 // The variational midpoint's fused residual passes (src/tree/tree_integrator_residual.h)
-// against the general path they replace for fixed-base trees under gravity: treeKinematics at
-// the midpoint, gravityMoments and momentumAndGradient (each tested on its own in
-// articulated_body_test.cc), on random trees with revolute and prismatic joints.
+// against the general path they replace for fixed-base trees under gravity and floating bases
+// without it: treeKinematics at the midpoint, gravityMoments and momentumAndGradient (each
+// tested on its own in articulated_body_test.cc), on random trees with revolute and prismatic
+// joints.
 #include "tree/tree_integrator_residual.h"
 
 #include <gtest/gtest.h>
@@ -194,8 +195,51 @@ TEST(MidpointResidual, MassMatrixOfATreeFarFromTheOriginKeepsItsDigits) {
   }
 }
 
-// The fused passes know gravity only: a floating base or a load on a link takes the general path.
-TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
+// A floating base without gravity (a contact step's drift): at q̄ = q + ½h ν̄ with the base's
+// midpoint bivelocity ν̄_0, the fused passes give the momenta (the base's six: the tree's
+// momentum in the base's axes) and the gradient of the general passes to round-off. The
+// general passes take the base's world pose, which the fused ones never see: a random one.
+TEST(MidpointResidual, FloatingBaseWithoutGravityIsTheKinematicsAndMomentumPasses) {
+  std::mt19937 rng(2028);
+  for (const int n : {1, 2, 7, 12}) {
+    for (const double h : {1e-3, 0.02, 0.5}) {
+      for (int trial = 0; trial < 5; ++trial) {
+        const ArticulatedBody tree = randomTree(rng, n, true);
+        TreeState start;
+        start.q = VectorXd::Random(n) * 3.0;
+        const VectorXd nu_bar = VectorXd::Random(n + 6) * 3.0;
+        MidpointResidual residual;
+        residual.prepare(tree);
+        residual.startAt(start.q);
+        VectorXd p, grad;
+        residual.evaluate(start.q, Vector3d::Zero(), h, nu_bar, p, grad);
+        EXPECT_EQ(residual.gravityPower(), 0.0);
+
+        TreeState mid;
+        mid.q = start.q + 0.5 * h * nu_bar.tail(n);
+        mid.M_W0 = cga::Motor::fromPose(Eigen::Quaterniond::UnitRandom(), Vector3d::Random() * 5.0,
+                                        kLambda);
+        setVelocityVector(tree, nu_bar, mid);
+        TreeKinematics kin;
+        treeKinematics(tree, mid, kin);
+        const BodyMoments none(tree.bodyCount(), cga::Moment());
+        VectorXd p_ref, grad_ref;
+        momentumAndGradient(tree, kin, none, p_ref, &grad_ref);
+        // As for the fixed base: round-off ≈ 1e-14 of O(1)-conditioned sums; a wrong frame, sign
+        // or λ, or a link's momentum not gathered into the base's, would be off by O(1).
+        const double scale = 1.0 + p_ref.cwiseAbs().maxCoeff() + grad_ref.cwiseAbs().maxCoeff();
+        ASSERT_EQ(p.size(), n + 6);
+        EXPECT_LT((p - p_ref).cwiseAbs().maxCoeff(), 1e-12 * scale) << n << " joints, h " << h;
+        EXPECT_LT((grad - grad_ref).cwiseAbs().maxCoeff(), 1e-12 * scale)
+            << n << " joints, h " << h;
+      }
+    }
+  }
+}
+
+// The fused passes know gravity only, and a floating base's only without it: a floating base
+// under gravity or a load on a link (or on a floating base) takes the general path.
+TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAndFloatingBasesWithoutLoads) {
   std::mt19937 rng(7);
   const ArticulatedBody fixed = randomTree(rng, 3, false), floating = randomTree(rng, 3, true);
   TreeLoads loads;
@@ -203,10 +247,15 @@ TEST(MidpointResidual, AppliesToFixedBasesUnderGravityAlone) {
   loads.applied.assign(4, nullptr);
   EXPECT_TRUE(MidpointResidual::applies(fixed, loads));
   EXPECT_FALSE(MidpointResidual::applies(floating, loads));
+  loads.gravity_W.setZero();
+  EXPECT_TRUE(MidpointResidual::applies(floating, loads));
   Loads pushed;
   AppliedLoad push;
   push.F = cga::Force(Vector3d(1, 0, 0));
   pushed.add(push);
+  loads.applied[0] = &pushed;  // on the base: a fixed base's is the world, which takes none
+  EXPECT_FALSE(MidpointResidual::applies(floating, loads));
+  EXPECT_TRUE(MidpointResidual::applies(fixed, loads));
   loads.applied[2] = &pushed;
   EXPECT_FALSE(MidpointResidual::applies(fixed, loads));
 }
