@@ -101,6 +101,18 @@ Eigen::Isometry3d randomPose(std::mt19937& rng, double spread) {
   return M;
 }
 
+// A hull of 200 points on an ellipsoid of semi-axes `big` (walked), one of 12 (searched whole),
+// a box, a sphere and a cylinder.
+struct TestShapes {
+  TestShape big, small, box, sphere, cylinder;
+  std::vector<TestShape*> all() { return {&big, &small, &box, &sphere, &cylinder}; }
+};
+
+TestShapes makeTestShapes(const Eigen::Vector3d& big, unsigned seed) {
+  return {makeTestHull(200, big, seed), makeTestHull(12, {0.04, 0.04, 0.03}, 2),
+          makeTestBox({0.1, 0.06, 0.2}), makeTestSphere(0.05), makeTestCylinder(0.03, 0.15)};
+}
+
 // FCL's contact and ours for one pose; true if they overlap. The same verdict, and point,
 // normal and depth equal to the last bit.
 bool compareWithFcl(TestShape& a, const Eigen::Isometry3d& Ma, TestShape& b,
@@ -128,17 +140,13 @@ bool compareWithFcl(TestShape& a, const Eigen::Isometry3d& Ma, TestShape& b,
 // equal to the last bit (one algorithm, one arithmetic: any difference would be a different
 // support point).
 TEST(ConvexPairs, SameContactsAsFclToTheLastBit) {
-  TestShape big = makeTestHull(200, {0.12, 0.07, 0.05}, 1);
-  TestShape small = makeTestHull(12, {0.04, 0.04, 0.03}, 2);
-  TestShape box = makeTestBox({0.1, 0.06, 0.2});
-  TestShape sphere = makeTestSphere(0.05);
-  TestShape cylinder = makeTestCylinder(0.03, 0.15);
-  ASSERT_GT(big.ours.hull->vertices->size(), 32u);
-  ASSERT_LE(small.ours.hull->vertices->size(), 32u);
+  TestShapes shapes = makeTestShapes({0.12, 0.07, 0.05}, 1);
+  ASSERT_GT(shapes.big.ours.hull->vertices->size(), 32u);
+  ASSERT_LE(shapes.small.ours.hull->vertices->size(), 32u);
   std::mt19937 rng(3);
   int hits = 0, pairs = 0;
-  for (TestShape* a : {&big, &small, &box, &sphere, &cylinder}) {
-    for (TestShape* b : {&big, &small, &box, &sphere, &cylinder}) {
+  for (TestShape* a : shapes.all()) {
+    for (TestShape* b : shapes.all()) {
       if (!a->ours.hull && !b->ours.hull) continue;  // two primitives stay with FCL
       for (int k = 0; k < 3000; ++k, ++pairs) {
         const Eigen::Isometry3d Ma = randomPose(rng, 0.7 * (a->bound + b->bound));
@@ -203,15 +211,11 @@ TEST(ConvexPairs, TiedVerticesAsFclPicksThem) {
 // contacts), and they tell a fair part of MPR's "no contact" poses (a test that always said
 // "not apart" would save nothing: measured 17 775 of 24 427, 73 %; asserted > 50 %).
 TEST(ConvexPairs, BoxesApartOnlyWhereMprFindsNothing) {
-  TestShape shin = makeTestHull(200, {0.25, 0.05, 0.05}, 7);
-  TestShape small = makeTestHull(12, {0.04, 0.04, 0.03}, 2);
-  TestShape box = makeTestBox({0.1, 0.06, 0.2});
-  TestShape sphere = makeTestSphere(0.05);
-  TestShape cylinder = makeTestCylinder(0.03, 0.15);
+  TestShapes shapes = makeTestShapes({0.25, 0.05, 0.05}, 7);  // the big hull a shin
   std::mt19937 rng(11);
   int apart = 0, missed = 0, empty = 0;
-  for (TestShape* a : {&shin, &small, &box, &sphere, &cylinder}) {
-    for (TestShape* b : {&shin, &small, &box, &sphere, &cylinder}) {
+  for (TestShape* a : shapes.all()) {
+    for (TestShape* b : shapes.all()) {
       if (!a->ours.hull && !b->ours.hull) continue;
       CollisionCache cache;
       cache.shapes = {a->ours, b->ours};
