@@ -52,9 +52,61 @@ double sweepLimits(SolverTree& t, double h, const Eigen::VectorXd* base) {
 
 }  // namespace
 
-double sweepVelocityLimits(SolverTree& t, double h) {
-  return sweepLimits<&SolverTree::nu, &SolverTree::LimitRow::y_lower,
-                     &SolverTree::LimitRow::y_upper>(t, h, nullptr);
+void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
+  const int n = static_cast<int>(t.nu.size());
+  std::vector<SolverWork::TreeSweeps::Run>& stop = T.stop[tree];
+  std::vector<double>& stop_a = T.stop_a[tree];
+  stop.resize(t.limits.size());
+  stop_a.resize(t.limits.size());
+  T.scratch.setZero(n, 3);
+  const bool sparse = t.factor.sparse();
+  for (std::size_t j = 0; j < t.limits.size(); ++j) {
+    const int k = t.limits[j].index;
+    T.scratch(k, 0) = 1.0;
+    t.factor.halfSolve(T.scratch, k, -1);  // s = L⁻ᵀ e_k, on k's path to the base
+    SolverWork::TreeSweeps::Run& run = stop[j];
+    run.first = static_cast<int>(T.stop_coordinate.size());
+    double a = 0.0;
+    // s is zero off k's path to the base (with a dense factor: nowhere).
+    for (int i = sparse ? k : n - 1; i >= 0; i = sparse ? t.coordinate_parent[i] : i - 1) {
+      const double s = T.scratch(i, 0);
+      T.stop_coordinate.push_back(i);
+      T.s.push_back(s);
+      a += s * s;
+      T.scratch(i, 0) = 0.0;
+    }
+    run.size = static_cast<int>(T.stop_coordinate.size()) - run.first;
+    stop_a[j] = a;
+  }
+}
+
+// The velocity sweeps' pass: the rate ν_k = ν₀_k + sᵀ z, an impulse dy adds dy s to z.
+double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  double change = 0.0;
+  double* z = T.z[tree].data();
+  const int* coordinate = T.stop_coordinate.data();
+  const double* s = T.s.data();
+  for (std::size_t j = 0; j < t.limits.size(); ++j) {
+    SolverTree::LimitRow& r = t.limits[j];
+    const SolverWork::TreeSweeps::Run& run = T.stop[tree][j];
+    const double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
+    double v = t.nu[r.index];
+    for (int i = run.first; i < run.first + run.size; ++i) v += s[i] * z[coordinate[i]];
+    if (r.y_lower == 0.0 && r.y_upper == 0.0 && v >= lo && v <= hi) continue;  // free
+    const double a = T.stop_a[tree][j];
+    if (!(a > 0.0)) continue;
+    const double yl = std::max(0.0, r.y_lower + (lo - v) / a);
+    double dy = yl - r.y_lower;
+    r.y_lower = yl;
+    v += dy * a;
+    const double yu = std::min(0.0, r.y_upper + (hi - v) / a);
+    dy += yu - r.y_upper;
+    r.y_upper = yu;
+    if (dy == 0.0) continue;
+    for (int i = run.first; i < run.first + run.size; ++i) z[coordinate[i]] += dy * s[i];
+    change = std::max(change, std::abs(dy * a));
+  }
+  return change;
 }
 
 double sweepPositionLimits(SolverTree& t, double h) {
