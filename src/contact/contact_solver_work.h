@@ -103,10 +103,11 @@ struct SolverWork {
     std::vector<int> coordinate, stop_coordinate;
     std::vector<Eigen::Vector3d> y;  ///< per coordinate of a side's run: its row of Y
     std::vector<double> s;           ///< per coordinate of a stop's run: its entry of s
-    /// Per tree: z, and z before the current sweep; its limit rows' runs and sᵀ s = (M⁻¹)_kk.
+    /// Per tree: z, and z before the current sweep; its limit rows' runs, sᵀ s = (M⁻¹)_kk and
+    /// |s|.
     std::vector<Eigen::VectorXd> z, z_sweep;
     std::vector<std::vector<Run>> stop;
-    std::vector<std::vector<double>> stop_a;
+    std::vector<std::vector<double>> stop_a, stop_norm;
     Eigen::Matrix<double, Eigen::Dynamic, 3> scratch;  ///< a half solve's columns
   };
   TreeSweeps tree_sweeps;

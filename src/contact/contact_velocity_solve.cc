@@ -85,6 +85,7 @@ void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<Cont
   T.z_sweep.resize(trees.size());
   T.stop.resize(trees.size());
   T.stop_a.resize(trees.size());
+  T.stop_norm.resize(trees.size());
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
     T.z[t].setZero(trees[t].nu.size());
