@@ -120,8 +120,11 @@ __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st
                                                         std::size_t k, bool patch) {
   ContactRow& c = rows[k];
   const int a = work.a[k], b = work.b[k];
+  // A tree against the ground or a static body (or against itself) has no body side: both
+  // slots are the dummy, whose velocity is zero and which takes no kick.
+  const bool trees_only = onTree(c) && a == b;
   // Normal: the impulse that brings u_n to its target, kept ≥ 0.
-  Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
+  Eigen::Vector3d u = trees_only ? Eigen::Vector3d::Zero() : relativeVelocity(work.vel, a, b, c);
   if (onTree(c)) u += sweptTreeVelocity<true, &SolverWork::TreeSweeps::z>(work.tree_sweeps, c, k);
   const double ln = c.compliant ? c.lambda_fixed
                                 : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
@@ -130,8 +133,13 @@ __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st
   u += dn * c.k_n;  // the velocity after it, without applying it yet
   const Eigen::Vector2d dt = frictionStep(c, u);
   // Both at once: one application per contact and sweep.
-  if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0)
-    applySwept(work, c, k, dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
+  if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0) {
+    const Eigen::Vector3d P = dn * c.n + dt.x() * c.t1 + dt.y() * c.t2;
+    if (trees_only)
+      applyToSweptTrees(work.tree_sweeps, c, k, P);
+    else
+      applySwept(work, c, k, P);
+  }
   if (patch && !onTree(c))
     patchStep(st.model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
 }
