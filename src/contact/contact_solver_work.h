@@ -108,7 +108,8 @@ struct SolverWork {
     std::vector<Eigen::VectorXd> z, z_sweep;
     std::vector<std::vector<Run>> stop;
     std::vector<std::vector<double>> stop_a, stop_norm;
-    Eigen::Matrix<double, Eigen::Dynamic, 3> scratch;  ///< a half solve's columns
+    /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
   };
   TreeSweeps tree_sweeps;
 };

@@ -60,13 +60,14 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   stop.resize(m);
   stop_a.resize(m);
   stop_norm.resize(m);
-  T.scratch.setZero(n, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
+  columns.setZero(n, 3);
   const bool sparse = t.factor.sparse();
   // Two stops a half solve (its columns 0 and 1: it walks the union of two paths).
   for (int j = 0; j < m; j += 2) {
     const int pair = std::min(2, m - j);
-    for (int c = 0; c < pair; ++c) T.scratch(t.limits[j + c].index, c) = 1.0;
-    t.factor.halfSolve(T.scratch, t.limits[j].index, pair > 1 ? t.limits[j + 1].index : -1);
+    for (int c = 0; c < pair; ++c) columns(t.limits[j + c].index, c) = 1.0;
+    t.factor.halfSolve(columns, t.limits[j].index, pair > 1 ? t.limits[j + 1].index : -1);
     for (int c = 0; c < pair; ++c) {  // s = L⁻ᵀ e_k
       const int k = t.limits[j + c].index;
       SolverWork::TreeSweeps::Run& run = stop[j + c];
@@ -74,11 +75,11 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
       double a = 0.0;
       // s is zero off k's path to the base (with a dense factor: nowhere).
       for (int i = sparse ? k : n - 1; i >= 0; i = sparse ? t.coordinate_parent[i] : i - 1) {
-        const double s = T.scratch(i, c);
+        const double s = columns(i, c);
         T.stop_coordinate.push_back(i);
         T.s.push_back(s);
         a += s * s;
-        T.scratch(i, c) = 0.0;
+        columns(i, c) = 0.0;
       }
       run.size = static_cast<int>(T.stop_coordinate.size()) - run.first;
       stop_a[j + c] = a;

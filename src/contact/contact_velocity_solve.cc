@@ -86,6 +86,7 @@ void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<Cont
   T.stop.resize(trees.size());
   T.stop_a.resize(trees.size());
   T.stop_norm.resize(trees.size());
+  T.scratch.resize(trees.size());
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
     T.z[t].setZero(trees[t].nu.size());
@@ -111,10 +112,11 @@ void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
   SolverWork::TreeSweeps& T = work.tree_sweeps;
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
-    T.scratch.setZero(trees[t].nu.size(), 3);
-    T.scratch.col(0) = T.z[t];
-    trees[t].factor.finishSolve(T.scratch);  // L⁻¹ z
-    trees[t].nu += T.scratch.col(0);
+    Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
+    columns.setZero(trees[t].nu.size(), 3);
+    columns.col(0) = T.z[t];
+    trees[t].factor.finishSolve(columns);  // L⁻¹ z
+    trees[t].nu += columns.col(0);
   }
 }
 
