@@ -96,6 +96,61 @@ __attribute__((always_inline)) inline void applyTo(
   if (onTree(c)) applyToTrees<Nu>(trees, c, P);
 }
 
+/// Row k's tree sides' point velocity in the sweeps' coordinates (SolverWork::TreeSweeps):
+/// J ν₀ + Yᵀ z (`Z` = z), or Yᵀ Δz alone (kFromStart false; `Z` holding the change Δz). Over the
+/// coordinates from the sides' links to the base only, in scalars as relativeVelocity is.
+template <bool kFromStart, std::vector<Eigen::VectorXd> SolverWork::TreeSweeps::*Z>
+__attribute__((always_inline)) inline Eigen::Vector3d sweptTreeVelocity(
+    const SolverWork::TreeSweeps& T, const ContactRow& c, std::size_t k) {
+  double u0 = 0.0, u1 = 0.0, u2 = 0.0;
+  if (kFromStart) u0 = T.u0[k].x(), u1 = T.u0[k].y(), u2 = T.u0[k].z();
+  const int* coordinate = T.coordinate.data();
+  const Eigen::Vector3d* y = T.y.data();
+  for (int side = 0; side < 2; ++side) {
+    const int t = side ? c.tb : c.ta;
+    if (t < 0) continue;
+    const SolverWork::TreeSweeps::Run& run = side ? T.side_b[k] : T.side_a[k];
+    const double* z = (T.*Z)[t].data();
+    double v0 = 0.0, v1 = 0.0, v2 = 0.0;
+    for (int i = run.first; i < run.first + run.size; ++i) {
+      const double zi = z[coordinate[i]];
+      v0 += y[i].x() * zi;
+      v1 += y[i].y() * zi;
+      v2 += y[i].z() * zi;
+    }
+    if (side) v0 = -v0, v1 = -v1, v2 = -v2;
+    u0 += v0, u1 += v1, u2 += v2;
+  }
+  return {u0, u1, u2};
+}
+
+/// The impulse P on row k's tree sides in the sweeps' coordinates: z += Y P on side a, −Y P on b.
+__attribute__((always_inline)) inline void applyToSweptTrees(SolverWork::TreeSweeps& T,
+                                                             const ContactRow& c, std::size_t k,
+                                                             const Eigen::Vector3d& P) {
+  const int* coordinate = T.coordinate.data();
+  const Eigen::Vector3d* y = T.y.data();
+  for (int side = 0; side < 2; ++side) {
+    const int t = side ? c.tb : c.ta;
+    if (t < 0) continue;
+    const SolverWork::TreeSweeps::Run& run = side ? T.side_b[k] : T.side_a[k];
+    double* z = T.z[t].data();
+    const double p0 = side ? -P.x() : P.x(), p1 = side ? -P.y() : P.y(), p2 = side ? -P.z() : P.z();
+    for (int i = run.first; i < run.first + run.size; ++i)
+      z[coordinate[i]] += y[i].x() * p0 + y[i].y() * p1 + y[i].z() * p2;
+  }
+}
+
+/// The impulse P at row k, +P on a and −P on b, in the velocity sweeps: the bodies' velocities
+/// as applyTo, a tree side's z.
+__attribute__((always_inline)) inline void applySwept(SolverWork& work, const ContactRow& c,
+                                                      std::size_t k, const Eigen::Vector3d& P) {
+  const int a = work.a[k], b = work.b[k];
+  kick(work.vel[a], work.response[a], c.ra, P.x(), P.y(), P.z());
+  kick(work.vel[b], work.response[b], c.rb, -P.x(), -P.y(), -P.z());
+  if (onTree(c)) applyToSweptTrees(work.tree_sweeps, c, k, P);
+}
+
 // ---- Per island ----
 
 /// Calls f(k, row) for the island's rows, in their order.
@@ -146,7 +201,7 @@ void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<Solv
 /// c.wa, c.wb (contact_tree_jacobians.cc).
 void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc);
 /// Makes the responses c.wa, c.wb = M⁻¹ Jᵀ of island I's rows that do not have them yet: before
-/// impulses are applied through them (the sweeps and their warm start).
+/// impulses are applied through them (the position correction's sweeps).
 void finishTreeResponses(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                          const SolverWork& work, const SolverWork::Island& I);
 
@@ -169,9 +224,20 @@ double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
                    bool patch, double tolerance);
 
-/// One pass over tree t's limit rows, on ν (the velocity solve) or on pν (the position
-/// correction, on top of ν); returns the largest change of a rate (contact_tree_limits.cc).
-double sweepVelocityLimits(SolverTree& t, double h);
+/// The velocity sweeps' coordinates of island I's trees (SolverWork::TreeSweeps): z = 0, and
+/// the runs of its rows' tree sides (from c.wa, c.wb, still the first half of their responses)
+/// and of its trees' limit rows (contact_velocity_solve.cc, contact_tree_limits.cc).
+void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<ContactRow>& rows,
+                    SolverWork& work, const SolverWork::Island& I);
+void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T);
+/// … and back: ν ← ν₀ + L⁻¹ z for island I's trees, after the sweeps.
+void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
+                      const SolverWork::Island& I);
+
+/// One pass over tree t's (index `tree`) limit rows in the velocity sweeps, on z, or on pν (the
+/// position correction, on top of ν); returns the largest change of a rate
+/// (contact_tree_limits.cc).
+double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h);
 double sweepPositionLimits(SolverTree& t, double h);
 
 }  // namespace detail

@@ -84,6 +84,34 @@ struct SolverWork {
     Eigen::VectorXd nu_warm, dnu;
   };
   RestingTree resting_tree;
+  /// The sweeps of an island with trees (doc/contacts.md#trees) move each tree's ν as
+  /// ν₀ + L⁻¹ z, L the factor of M(q) (M = Lᵀ L, contact_tree_factor.h) and z = 0 at ν₀: a
+  /// contact's impulse P adds Y P to z and its point's velocity is J ν₀ + Yᵀ z, Y = L⁻ᵀ Jᵀ the
+  /// first half of its response (nonzero only on the coordinates from its link to the base),
+  /// where ν itself would take the dense M⁻¹ Jᵀ P and J ν over every coordinate. A joint stop's
+  /// rate is ν₀_k + sᵀ z, s = L⁻ᵀ e_k, on the coordinates from its joint to the base.
+  /// (With mimic joints the factor is dense and so are Y and s.) ν is made from z once, after
+  /// the sweeps.
+  struct TreeSweeps {
+    /// A run of `coordinate` and `y` (a row side's nonzeros) or of `stop_coordinate` and `s`
+    /// (a stop's).
+    struct Run {
+      int first = 0, size = 0;
+    };
+    std::vector<Run> side_a, side_b;  ///< per row: its tree sides' runs (size 0: none)
+    std::vector<Eigen::Vector3d> u0;  ///< per row: J ν₀ of its tree sides (a's minus b's)
+    std::vector<int> coordinate, stop_coordinate;
+    std::vector<Eigen::Vector3d> y;  ///< per coordinate of a side's run: its row of Y
+    std::vector<double> s;           ///< per coordinate of a stop's run: its entry of s
+    /// Per tree: z, and z before the current sweep; its limit rows' runs, sᵀ s = (M⁻¹)_kk and
+    /// |s|.
+    std::vector<Eigen::VectorXd> z, z_sweep;
+    std::vector<std::vector<Run>> stop;
+    std::vector<std::vector<double>> stop_a, stop_norm;
+    /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
+  };
+  TreeSweeps tree_sweeps;
 };
 
 }  // namespace sim

@@ -52,9 +52,82 @@ double sweepLimits(SolverTree& t, double h, const Eigen::VectorXd* base) {
 
 }  // namespace
 
-double sweepVelocityLimits(SolverTree& t, double h) {
-  return sweepLimits<&SolverTree::nu, &SolverTree::LimitRow::y_lower,
-                     &SolverTree::LimitRow::y_upper>(t, h, nullptr);
+void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
+  const int n = static_cast<int>(t.nu.size()), m = static_cast<int>(t.limits.size());
+  std::vector<SolverWork::TreeSweeps::Run>& stop = T.stop[tree];
+  std::vector<double>& stop_a = T.stop_a[tree];
+  std::vector<double>& stop_norm = T.stop_norm[tree];
+  stop.resize(m);
+  stop_a.resize(m);
+  stop_norm.resize(m);
+  Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
+  columns.setZero(n, 3);
+  const bool sparse = t.factor.sparse();
+  // Two stops a half solve (its columns 0 and 1: it walks the union of two paths).
+  for (int j = 0; j < m; j += 2) {
+    const int pair = std::min(2, m - j);
+    for (int c = 0; c < pair; ++c) columns(t.limits[j + c].index, c) = 1.0;
+    t.factor.halfSolve(columns, t.limits[j].index, pair > 1 ? t.limits[j + 1].index : -1);
+    for (int c = 0; c < pair; ++c) {  // s = L⁻ᵀ e_k
+      const int k = t.limits[j + c].index;
+      SolverWork::TreeSweeps::Run& run = stop[j + c];
+      run.first = static_cast<int>(T.stop_coordinate.size());
+      double a = 0.0;
+      // s is zero off k's path to the base (with a dense factor: nowhere).
+      for (int i = sparse ? k : n - 1; i >= 0; i = sparse ? t.coordinate_parent[i] : i - 1) {
+        const double s = columns(i, c);
+        T.stop_coordinate.push_back(i);
+        T.s.push_back(s);
+        a += s * s;
+        columns(i, c) = 0.0;
+      }
+      run.size = static_cast<int>(T.stop_coordinate.size()) - run.first;
+      stop_a[j + c] = a;
+      stop_norm[j + c] = std::sqrt(a);
+    }
+  }
+}
+
+// The velocity sweeps' pass: the rate ν_k = ν₀_k + sᵀ z, an impulse dy adds dy s to z. A stop
+// without impulse whose rate cannot have reached its bounds is passed over without computing sᵀ z:
+// |sᵀ z| ≤ |s| |z| (Cauchy–Schwarz), and |z| is kept as an upper bound through the pass (it grows
+// by at most |dy| |s| an impulse). The bound allows for the rounding of ν₀_k + sᵀ z (at most
+// ~1e-15 of its terms), so a stop passed over is one the sum would have found free: the same
+// answer to the bit.
+double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  double change = 0.0;
+  double* z = T.z[tree].data();
+  double z_norm = T.z[tree].norm() * (1.0 + 1e-12);
+  const int* coordinate = T.stop_coordinate.data();
+  const double* s = T.s.data();
+  for (std::size_t j = 0; j < t.limits.size(); ++j) {
+    SolverTree::LimitRow& r = t.limits[j];
+    const double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
+    const double v0 = t.nu[r.index], s_norm = T.stop_norm[tree][j];
+    const bool loaded = r.y_lower != 0.0 || r.y_upper != 0.0;
+    if (!loaded) {
+      const double reach = s_norm * z_norm * (1.0 + 1e-12) + 1e-14 * std::abs(v0);
+      if (v0 - reach > lo && v0 + reach < hi) continue;  // free, and known to be
+    }
+    const SolverWork::TreeSweeps::Run& run = T.stop[tree][j];
+    double v = v0;
+    for (int i = run.first; i < run.first + run.size; ++i) v += s[i] * z[coordinate[i]];
+    if (!loaded && v >= lo && v <= hi) continue;  // free
+    const double a = T.stop_a[tree][j];
+    if (!(a > 0.0)) continue;
+    const double yl = std::max(0.0, r.y_lower + (lo - v) / a);
+    double dy = yl - r.y_lower;
+    r.y_lower = yl;
+    v += dy * a;
+    const double yu = std::min(0.0, r.y_upper + (hi - v) / a);
+    dy += yu - r.y_upper;
+    r.y_upper = yu;
+    if (dy == 0.0) continue;
+    for (int i = run.first; i < run.first + run.size; ++i) z[coordinate[i]] += dy * s[i];
+    z_norm += std::abs(dy) * s_norm * (1.0 + 1e-12);
+    change = std::max(change, std::abs(dy * a));
+  }
+  return change;
 }
 
 double sweepPositionLimits(SolverTree& t, double h) {

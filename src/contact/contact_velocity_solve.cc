@@ -41,6 +41,87 @@ void loadWork(const std::vector<SolverBody>& bodies, const std::vector<ContactRo
   }
 }
 
+// A tree side's run: the coordinates from its leaves to the base (every one with a dense factor),
+// Y's rows on them, and J ν₀ over them (J is zero off them), added to u.
+SolverWork::TreeSweeps::Run loadSide(const SolverTree& t,
+                                     const Eigen::Matrix<double, 3, Eigen::Dynamic>& J,
+                                     const Eigen::Matrix<double, Eigen::Dynamic, 3>& Y, int leaf,
+                                     int leaf2, SolverWork::TreeSweeps& T, Eigen::Vector3d& u) {
+  SolverWork::TreeSweeps::Run run;
+  run.first = static_cast<int>(T.coordinate.size());
+  auto take = [&](int i) {
+    T.coordinate.push_back(i);
+    T.y.push_back(Y.row(i).transpose());
+    u += J.col(i) * t.nu[i];
+  };
+  if (!t.factor.sparse()) {
+    for (int i = 0; i < static_cast<int>(t.nu.size()); ++i) take(i);
+  } else {  // the union of the two paths, as TreeFactor::halfSolve walks it
+    for (int a = leaf, b = leaf2; a >= 0 || b >= 0;) {
+      const int i = std::max(a, b);
+      take(i);
+      if (a == i) a = t.coordinate_parent[a];
+      if (b == i) b = t.coordinate_parent[b];
+    }
+  }
+  run.size = static_cast<int>(T.coordinate.size()) - run.first;
+  return run;
+}
+
+}  // namespace
+
+void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<ContactRow>& rows,
+                    SolverWork& work, const SolverWork::Island& I) {
+  if (I.trees == 0) return;
+  SolverWork::TreeSweeps& T = work.tree_sweeps;
+  T.coordinate.clear();  // (an island's runs serve its solve only)
+  T.y.clear();
+  T.stop_coordinate.clear();
+  T.s.clear();
+  T.side_a.resize(rows.size());
+  T.side_b.resize(rows.size());
+  T.u0.resize(rows.size());
+  T.z.resize(trees.size());
+  T.z_sweep.resize(trees.size());
+  T.stop.resize(trees.size());
+  T.stop_a.resize(trees.size());
+  T.stop_norm.resize(trees.size());
+  T.scratch.resize(trees.size());
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+    const int t = work.island_tree[q];
+    T.z[t].setZero(trees[t].nu.size());
+    T.z_sweep[t].setZero(trees[t].nu.size());
+    loadSweptLimits(trees[t], t, T);
+  }
+  for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
+    const SolverWork::Group& g = work.groups[work.island_group[q]];
+    for (int k = g.first; k < g.first + g.size; ++k) {
+      const ContactRow& c = rows[k];
+      if (!onTree(c)) continue;
+      Eigen::Vector3d u = Eigen::Vector3d::Zero(), ub = Eigen::Vector3d::Zero();
+      T.side_a[k] = T.side_b[k] = SolverWork::TreeSweeps::Run();
+      if (c.ta >= 0) T.side_a[k] = loadSide(trees[c.ta], c.ja, c.wa, c.leaf_a, c.leaf_a2, T, u);
+      if (c.tb >= 0) T.side_b[k] = loadSide(trees[c.tb], c.jb, c.wb, c.leaf_b, -1, T, ub);
+      T.u0[k] = u - ub;
+    }
+  }
+}
+
+void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
+                      const SolverWork::Island& I) {
+  SolverWork::TreeSweeps& T = work.tree_sweeps;
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+    const int t = work.island_tree[q];
+    Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
+    columns.setZero(trees[t].nu.size(), 3);
+    columns.col(0) = T.z[t];
+    trees[t].factor.finishSolve(columns);  // L⁻¹ z
+    trees[t].nu += columns.col(0);
+  }
+}
+
+namespace {
+
 // The kinetic energy of an island's bodies and trees, before the contact impulses (vel_start,
 // ν_start) or at the velocities now in `work` (vel, ν).
 double islandKinetic(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
@@ -104,13 +185,11 @@ void clampWarmStart(std::vector<ContactRow>& rows, const SolverWork& work,
   });
 }
 
-// … applied.
-void warmStart(std::vector<SolverTree>& trees, std::vector<ContactRow>& rows, SolverWork& work,
-               const SolverWork::Island& I) {
+// … applied (a tree's in the sweeps' coordinates, loadTreeSweeps).
+void warmStart(std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I) {
   clampWarmStart(rows, work, I);
   forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
-    applyTo<&SolverTree::nu>(work.vel, work.response, trees, work.a[k], work.b[k], c,
-                             c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
+    applySwept(work, c, k, c.lambda_n * c.n + c.lambda_t.x() * c.t1 + c.lambda_t.y() * c.t2);
   });
 }
 
@@ -147,10 +226,10 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
       const int steps = solveRestingTree(st, trees, rows, work, I);
       if (steps > 0) return steps;
     }
-    finishTreeResponses(trees, rows, work, I);
+    loadTreeSweeps(trees, rows, work, I);
     // A resting island of faces solved directly; the sweeps then only confirm it.
     if (!bounce || st.model.compliant() || !solveResting(bodies, rows, work, I))
-      warmStart(trees, rows, work, I);
+      warmStart(rows, work, I);
     int it = 0;
     for (; it < max_iterations; ++it) {
       if (sweepIsland(st, trees, rows, work, I, patch, tolerance) < tolerance) {
@@ -158,6 +237,7 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
         break;
       }
     }
+    finishTreeSweeps(trees, work, I);
     sweeps += it;
     if (energyGuardHolds(bodies, trees, rows, work, I)) break;
   }

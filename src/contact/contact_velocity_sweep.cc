@@ -116,14 +116,16 @@ __attribute__((noinline)) void sweepGroup(const SolverWork::Group& g, SolverWork
 // it, applied together; then its patch couples. Inlined into the sweep's loop: a call per
 // contact and sweep would cost a fair part of the update itself.
 __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st, SolverWork& work,
-                                                        std::vector<SolverTree>& trees,
                                                         std::vector<ContactRow>& rows,
                                                         std::size_t k, bool patch) {
   ContactRow& c = rows[k];
   const int a = work.a[k], b = work.b[k];
+  // A tree against the ground or a static body (or against itself) has no body side: both
+  // slots are the dummy, whose velocity is zero and which takes no kick.
+  const bool trees_only = onTree(c) && a == b;
   // Normal: the impulse that brings u_n to its target, kept ≥ 0.
-  Eigen::Vector3d u = relativeVelocity(work.vel, a, b, c);
-  if (onTree(c)) u += treeVelocity<&SolverTree::nu>(trees, c);
+  Eigen::Vector3d u = trees_only ? Eigen::Vector3d::Zero() : relativeVelocity(work.vel, a, b, c);
+  if (onTree(c)) u += sweptTreeVelocity<true, &SolverWork::TreeSweeps::z>(work.tree_sweeps, c, k);
   const double ln = c.compliant ? c.lambda_fixed
                                 : std::max(0.0, c.lambda_n + (c.target - c.n.dot(u)) * c.inv_k_nn);
   const double dn = ln - c.lambda_n;
@@ -131,9 +133,13 @@ __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st
   u += dn * c.k_n;  // the velocity after it, without applying it yet
   const Eigen::Vector2d dt = frictionStep(c, u);
   // Both at once: one application per contact and sweep.
-  if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0)
-    applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
-                             dn * c.n + dt.x() * c.t1 + dt.y() * c.t2);
+  if (dn != 0.0 || dt.x() != 0.0 || dt.y() != 0.0) {
+    const Eigen::Vector3d P = dn * c.n + dt.x() * c.t1 + dt.y() * c.t2;
+    if (trees_only)
+      applyToSweptTrees(work.tree_sweeps, c, k, P);
+    else
+      applySwept(work, c, k, P);
+  }
   if (patch && !onTree(c))
     patchStep(st.model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
 }
@@ -143,28 +149,35 @@ __attribute__((always_inline)) inline void sweepContact(const SolverSettings& st
 double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
                    bool patch, double tolerance) {
+  SolverWork::TreeSweeps& T = work.tree_sweeps;
   forBodies(work, I, [&](int s) { work.vel_sweep[s] = work.vel[s]; });
-  forTrees(work, trees, I, [](SolverTree& t) { t.nu_sweep = t.nu; });
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q)
+    T.z_sweep[work.island_tree[q]] = T.z[work.island_tree[q]];
   for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
     const SolverWork::Group& g = work.groups[work.island_group[q]];
     if (g.size > 1)
       sweepGroup(g, work, trees, rows, st.model, patch);
     else
-      sweepContact(st, work, trees, rows, g.first, patch);
+      sweepContact(st, work, rows, g.first, patch);
   }
   // The joints' limits, solved with the contacts (a rate's change counts as a point's at 1 m).
   double limit_change = 0.0;
-  forTrees(work, trees, I, [&](SolverTree& t) {
-    limit_change = std::max(limit_change, sweepVelocityLimits(t, st.h));
-  });
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+    const int t = work.island_tree[q];
+    limit_change = std::max(limit_change, sweepVelocityLimits(trees[t], t, T, st.h));
+  }
   double change = std::max(bodyChange(work, I), limit_change);
   // A tree's change as its contact points see it, unless the sweep is already known not to
   // have converged (a tree's stops take many sweeps: this is most of them).
   if (I.trees > 0 && change < tolerance) {
-    forTrees(work, trees, I, [](SolverTree& t) { t.nu_sweep = t.nu - t.nu_sweep; });
-    forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
+    for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+      const int t = work.island_tree[q];
+      T.z_sweep[t] = T.z[t] - T.z_sweep[t];
+    }
+    forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
       if (onTree(c))
-        change = std::max(change, treeVelocity<&SolverTree::nu_sweep>(trees, c).norm());
+        change = std::max(
+            change, sweptTreeVelocity<false, &SolverWork::TreeSweeps::z_sweep>(T, c, k).norm());
     });
   }
   return change;
