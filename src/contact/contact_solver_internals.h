@@ -96,6 +96,17 @@ __attribute__((always_inline)) inline void applyTo(
   if (onTree(c)) applyToTrees<Nu>(trees, c, P);
 }
 
+/// Calls f(t, run, b) for each tree side of row k: its tree, the coordinates of its link's path
+/// to the base in the sweeps' arrays, and whether it is side b.
+template <class F>
+__attribute__((always_inline)) inline void forTreeSides(const SolverWork::TreeSweeps& T,
+                                                        const ContactRow& c, std::size_t k, F&& f) {
+  for (int side = 0; side < 2; ++side) {
+    const int t = side ? c.tb : c.ta;
+    if (t >= 0) f(t, side ? T.side_b[k] : T.side_a[k], side == 1);
+  }
+}
+
 /// Row k's tree sides' point velocity in the sweeps' coordinates (SolverWork::TreeSweeps):
 /// J ν₀ + Yᵀ z (`Z` = z), or Yᵀ Δz alone (kFromStart false; `Z` holding the change Δz). Over the
 /// coordinates from the sides' links to the base only, in scalars as relativeVelocity is.
@@ -106,10 +117,7 @@ __attribute__((always_inline)) inline Eigen::Vector3d sweptTreeVelocity(
   if (kFromStart) u0 = T.u0[k].x(), u1 = T.u0[k].y(), u2 = T.u0[k].z();
   const int* coordinate = T.coordinate.data();
   const Eigen::Vector3d* y = T.y.data();
-  for (int side = 0; side < 2; ++side) {
-    const int t = side ? c.tb : c.ta;
-    if (t < 0) continue;
-    const SolverWork::TreeSweeps::Run& run = side ? T.side_b[k] : T.side_a[k];
+  forTreeSides(T, c, k, [&](int t, const SolverWork::TreeSweeps::Run& run, bool b) {
     const double* z = (T.*Z)[t].data();
     double v0 = 0.0, v1 = 0.0, v2 = 0.0;
     for (int i = run.first; i < run.first + run.size; ++i) {
@@ -118,9 +126,9 @@ __attribute__((always_inline)) inline Eigen::Vector3d sweptTreeVelocity(
       v1 += y[i].y() * zi;
       v2 += y[i].z() * zi;
     }
-    if (side) v0 = -v0, v1 = -v1, v2 = -v2;
+    if (b) v0 = -v0, v1 = -v1, v2 = -v2;
     u0 += v0, u1 += v1, u2 += v2;
-  }
+  });
   return {u0, u1, u2};
 }
 
@@ -130,15 +138,12 @@ __attribute__((always_inline)) inline void applyToSweptTrees(SolverWork::TreeSwe
                                                              const Eigen::Vector3d& P) {
   const int* coordinate = T.coordinate.data();
   const Eigen::Vector3d* y = T.y.data();
-  for (int side = 0; side < 2; ++side) {
-    const int t = side ? c.tb : c.ta;
-    if (t < 0) continue;
-    const SolverWork::TreeSweeps::Run& run = side ? T.side_b[k] : T.side_a[k];
+  forTreeSides(T, c, k, [&](int t, const SolverWork::TreeSweeps::Run& run, bool b) {
     double* z = T.z[t].data();
-    const double p0 = side ? -P.x() : P.x(), p1 = side ? -P.y() : P.y(), p2 = side ? -P.z() : P.z();
+    const double p0 = b ? -P.x() : P.x(), p1 = b ? -P.y() : P.y(), p2 = b ? -P.z() : P.z();
     for (int i = run.first; i < run.first + run.size; ++i)
       z[coordinate[i]] += y[i].x() * p0 + y[i].y() * p1 + y[i].z() * p2;
-  }
+  });
 }
 
 /// The impulse P at row k, +P on a and −P on b, in the velocity sweeps: the bodies' velocities
