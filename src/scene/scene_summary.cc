@@ -14,7 +14,7 @@ namespace scene {
 
 namespace {
 
-constexpr int kDigits = 6;  // significant digits of the summary's numbers: one screen
+constexpr int kSummaryDigits = 6;  // significant digits of the summary's numbers: one screen
 
 // The count by kind, e.g. "3 (2 box, 1 mesh)".
 std::string shapeCounts(const BodyModel& body) {
@@ -42,32 +42,34 @@ std::string jointLine(const Scene& scene, const JointModel& j) {
   const JointLimits& l = j.limits;
   std::ostringstream os;
   os << j.name << ": " << toString(j.type) << ", " << j.parent_link << " -> " << j.child_link
-     << ", axis " << formatVector(j.axis, kDigits);
+     << ", axis " << formatVector(j.axis, kSummaryDigits);
   if (l.has_position)
-    os << ", position in [" << formatNumber(l.lower, kDigits) << ", "
-       << formatNumber(l.upper, kDigits) << "]" << q_unit;
+    os << ", position in [" << formatNumber(l.lower, kSummaryDigits) << ", "
+       << formatNumber(l.upper, kSummaryDigits) << "]" << q_unit;
   else
     os << ", no position limits";
   if (std::isfinite(l.effort))
-    os << ", |effort| <= " << formatNumber(l.effort, kDigits) << (prismatic ? " N" : " N m");
+    os << ", |effort| <= " << formatNumber(l.effort, kSummaryDigits) << (prismatic ? " N" : " N m");
   if (std::isfinite(l.velocity))
-    os << ", |velocity| <= " << formatNumber(l.velocity, kDigits) << v_unit;
+    os << ", |velocity| <= " << formatNumber(l.velocity, kSummaryDigits) << v_unit;
   if (j.damping != 0)
-    os << ", damping " << formatNumber(j.damping, kDigits) << (prismatic ? " N s/m" : " N m s/rad");
+    os << ", damping " << formatNumber(j.damping, kSummaryDigits)
+       << (prismatic ? " N s/m" : " N m s/rad");
   if (j.friction != 0)
-    os << ", friction " << formatNumber(j.friction, kDigits) << (prismatic ? " N" : " N m");
+    os << ", friction " << formatNumber(j.friction, kSummaryDigits) << (prismatic ? " N" : " N m");
   if (j.mimic) {
     os << ", mimics " << scene.joints[j.mimic->leader].name
-       << ": q = " << formatNumber(j.mimic->multiplier, kDigits) << " q_"
+       << ": q = " << formatNumber(j.mimic->multiplier, kSummaryDigits) << " q_"
        << scene.joints[j.mimic->leader].name;
-    if (j.mimic->offset != 0) os << " + " << formatNumber(j.mimic->offset, kDigits) << q_unit;
+    if (j.mimic->offset != 0)
+      os << " + " << formatNumber(j.mimic->offset, kSummaryDigits) << q_unit;
     if (j.mimic->written != scene.joints[j.mimic->leader].name)
       os << " (through " << j.mimic->written << ")";
   }
   if (j.initial_position != 0)
-    os << ", q0 = " << formatNumber(j.initial_position, kDigits) << q_unit;
+    os << ", q0 = " << formatNumber(j.initial_position, kSummaryDigits) << q_unit;
   if (j.initial_velocity != 0)
-    os << ", v0 = " << formatNumber(j.initial_velocity, kDigits) << v_unit;
+    os << ", v0 = " << formatNumber(j.initial_velocity, kSummaryDigits) << v_unit;
   return os.str();
 }
 
@@ -90,8 +92,8 @@ void headerSection(std::ostream& os, const Scene& scene, const std::string& inte
      << scene.bodies.size() - moving << " static)";
   if (!scene.joints.empty())
     os << ", " << scene.joints.size() << (scene.joints.size() == 1 ? " joint" : " joints");
-  os << ", integrator '" << integrator << "', lambda = " << formatNumber(scene.lambda, kDigits)
-     << " m\n";
+  os << ", integrator '" << integrator
+     << "', lambda = " << formatNumber(scene.lambda, kSummaryDigits) << " m\n";
   const auto& names = summaryIntegratorNames();
   if (std::find(names.begin(), names.end(), integrator) == names.end()) {
     os << "  unknown integrator '" << integrator << "' (known:";
@@ -105,7 +107,7 @@ void loadsSection(std::ostream& os, const Scene& scene) {
   if (scene.gravity_W.isZero(0.0))
     os << "  gravity: off\n";
   else
-    os << "  gravity: " << formatVector(scene.gravity_W, kDigits)
+    os << "  gravity: " << formatVector(scene.gravity_W, kSummaryDigits)
        << " m/s^2 on every moving body (uniform, at the centre of mass: no torque)\n";
   os << "  applied wrenches and impulses: can reach every moving body\n"
         "    (under 'auto' a wrench with a torque switches the body to exact+kicks while it "
@@ -141,8 +143,8 @@ void bodiesSection(std::ostream& os, const Scene& scene, const std::string& inte
       os << "static (never stepped)";
     } else {
       const auto& I = *b.inertia;
-      os << "mass " << formatNumber(I.mass(), kDigits)
-         << " kg, J = " << formatVector(I.principalMoments(), kDigits) << " kg m^2, "
+      os << "mass " << formatNumber(I.mass(), kSummaryDigits)
+         << " kg, J = " << formatVector(I.principalMoments(), kSummaryDigits) << " kg m^2, "
          << dynamics::toString(I.inertiaClass()) << ", path " << path;
       if (in_tree)
         os << " (" << tree_role[k] << ")";
