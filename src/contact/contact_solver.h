@@ -78,8 +78,10 @@ struct SolverTree {
     /// (contact_resting_tree.h).
     double y_lower_last = 0.0, y_upper_last = 0.0;
     double p_lower = 0.0, p_upper = 0.0;  ///< accumulated pseudo-impulses (position correction)
-    double a = 0.0;                       ///< (M⁻¹)_kk; 0 until the column is made
-    Eigen::VectorXd column;               ///< M⁻¹ e_k, made when the row first acts
+    /// The position correction's: (M⁻¹)_kk, 0 until the column is made, and the column M⁻¹ e_k,
+    /// made when the row first acts there (the velocity sweeps use L⁻ᵀ e_k instead).
+    double a = 0.0;
+    Eigen::VectorXd column;
   };
   Eigen::VectorXd nu;                  ///< ν after the loads' kick and the impulses
   Eigen::VectorXd nu_start, nu_sweep;  ///< before the impulses; before a sweep
