@@ -12,6 +12,10 @@ namespace {
 // Trees with at most this many coordinates build the Hessian row by row over each row's
 // nonzeros (their indices found once per solve); larger ones by one dense rank update.
 constexpr int kSparseMax = 256;
+// A downdate that leaves a pivot's square below this fraction of what it was keeps fewer than
+// 16 − 9 = 7 of its digits: the factor is made whole instead. A contact row weighs ~1/ε = 1e6
+// times the rest of its pivot (contact_resting_tree.cc), so removing one leaves ~1e-6.
+constexpr double kMinPivotRatio = 1e-9;
 
 }  // namespace
 
@@ -29,6 +33,7 @@ void TreeNewton::resize(int m, int s, int n) {
     re_.resize(z_.size());
     active_.resize(z_.size());
     crossing_.reserve(z_.size());
+    changed_.reserve(z_.size());
   }
   if (S_.rows() != n || S_.cols() < m) S_.resize(n, g.rows());
   if (H_.rows() != n) {
@@ -38,6 +43,7 @@ void TreeNewton::resize(int m, int s, int n) {
     work_.resize(n);
     dnu_.resize(n);
     start_.resize(n);
+    x_.setZero(n);
   }
   rows = m;
   n_single = s;
@@ -48,9 +54,7 @@ bool TreeNewton::factorHessian() {
   const int n = nv;
   inv_diag_.resize(n);
   nz_.resize(static_cast<std::size_t>(n) * n);
-  nz_begin_.resize(n);
   nz_count_.resize(n);
-  int used = 0;
   for (int k = n - 1; k >= 0; --k) {
     const double d = H_(k, k);
     if (!(d > 0.0 && std::isfinite(d))) return false;
@@ -58,7 +62,7 @@ bool TreeNewton::factorHessian() {
     H_(k, k) = l;
     inv_diag_[k] = inv;
     // Row k of L left of the diagonal: its nonzeros, scaled.
-    int* nz = nz_.data() + used;
+    int* nz = nz_.data() + static_cast<std::size_t>(k) * n;
     int count = 0;
     for (int j = 0; j < k; ++j) {
       double& x = H_(k, j);
@@ -66,9 +70,7 @@ bool TreeNewton::factorHessian() {
       x *= inv;
       nz[count++] = j;
     }
-    nz_begin_[k] = used;
     nz_count_[k] = count;
-    used += count;
     // H_ij −= L_ki L_kj over those pairs (i ≥ j: the lower triangle).
     for (int a = 0; a < count; ++a) {
       const int i = nz[a];
@@ -84,15 +86,84 @@ void TreeNewton::solveHessian(Eigen::VectorXd& x) const {
   for (int i = n - 1; i >= 0; --i) {  // Lᵀ y = x, from the last coordinate in
     const double y = x[i] * inv_diag_[i];
     x[i] = y;
-    const int* nz = nz_.data() + nz_begin_[i];
+    const int* nz = nz_.data() + static_cast<std::size_t>(i) * n;
     for (int a = 0; a < nz_count_[i]; ++a) x[nz[a]] -= H_(i, nz[a]) * y;
   }
   for (int i = 0; i < n; ++i) {  // L z = y, from the first out
     double z = x[i];
-    const int* nz = nz_.data() + nz_begin_[i];
+    const int* nz = nz_.data() + static_cast<std::size_t>(i) * n;
     for (int a = 0; a < nz_count_[i]; ++a) z -= H_(i, nz[a]) * x[nz[a]];
     x[i] = z * inv_diag_[i];
   }
+}
+
+bool TreeNewton::rankOne(int top, double sign) {
+  // H ± x xᵀ = L'ᵀ L' row by row from the last coordinate in (the rows of L are Cholesky's
+  // columns in the reversed order): row k and x are turned (a hyperbolic turn for −) so that
+  // x loses its k-th entry, which moves x onto row k's columns j < k only — a point's
+  // Jacobian's path to the base, L's own structure, when x is a contact row's: the classical
+  // Cholesky update and downdate (Gill, Golub, Murray and Saunders, "Methods for modifying
+  // matrix factorizations", 1974).
+  const int n = nv;
+  bool ok = true;
+  for (int k = top; k >= 0; --k) {
+    const double xk = x_[k];
+    if (xk == 0.0) continue;
+    x_[k] = 0.0;
+    if (!ok) continue;  // x_ is still cleared, for the next call
+    const double l = H_(k, k), l2 = l * l;
+    const double r2 = l2 + sign * xk * xk;
+    if (!(r2 > kMinPivotRatio * l2)) {
+      ok = false;
+      continue;
+    }
+    const double r = std::sqrt(r2), c = r / l, s = xk / l, inv_c = l / r;
+    H_(k, k) = r;
+    inv_diag_[k] = 1.0 / r;
+    int* nz = nz_.data() + static_cast<std::size_t>(k) * n;
+    int count = 0;
+    for (int j = 0; j < k; ++j) {
+      double& lkj = H_(k, j);
+      const double xj = x_[j];
+      if (lkj == 0.0 && xj == 0.0) continue;
+      lkj = (lkj + sign * s * xj) * inv_c;
+      x_[j] = c * xj - s * lkj;
+      if (lkj != 0.0) nz[count++] = j;
+    }
+    nz_count_[k] = count;
+  }
+  return ok;
+}
+
+bool TreeNewton::updateFactor() {
+  const int m = rows;
+  for (const int i : changed_) {
+    const double sign = active_[i] ? 1.0 : -1.0;
+    int top = -1;
+    if (i < m) {
+      const double w = std::sqrt(D[i]);
+      if (nv <= kSparseMax) {
+        for (int a = row_nz_begin_[i]; a < row_nz_begin_[i + 1]; ++a) {
+          const int c = row_nz_[a];
+          x_[c] = w * g(i, c);
+          top = std::max(top, c);
+        }
+      } else {
+        for (int c = 0; c < nv; ++c) {
+          if (g(i, c) == 0.0) continue;
+          x_[c] = w * g(i, c);
+          top = c;
+        }
+      }
+    } else {
+      const Single& q = single[i - m];
+      x_[q.index] = std::sqrt(q.D);
+      top = q.index;
+    }
+    ++rank_updates;
+    if (!rankOne(top, sign)) return false;
+  }
+  return true;
 }
 
 void TreeNewton::splitRows(double dMd, double dMx) {
@@ -153,6 +224,7 @@ bool TreeNewton::factorActive(const Eigen::MatrixXd& M) {
   for (int j = 0; j < s; ++j)
     if (active_[m + j]) H_(single[j].index, single[j].index) += single[j].D;
   factored_ = factorHessian();
+  ++factorisations;
   return factored_;
 }
 
@@ -217,17 +289,21 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
     // The active rows; the Hessian depends on them alone (and on M): when they are those of
     // the factor kept from the last step (of this solve), it is reused.
-    bool same_rows = factored_;
+    changed_.clear();
     for (int i = 0; i < m + s; ++i) {
       const char a = z_[i] < 0;
-      same_rows = same_rows && a == active_[i];
+      if (a != active_[i]) changed_.push_back(i);
       active_[i] = a;
     }
     for (int i = 0; i < m; ++i)
       if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
     for (int j = 0; j < s; ++j)
       if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
-    if (!same_rows && !factorActive(M)) return -1;
+    // A few rows in or out: the factor updated row by row (spoilt by a downdate: made whole).
+    if (!factored_ || !changed_.empty()) {
+      const bool update = factored_ && static_cast<int>(changed_.size()) <= max_rank_updates;
+      if (!(update && updateFactor()) && !factorActive(M)) return -1;
+    }
     delta_ = -grad_;
     solveHessian(delta_);
     // The exact line search: φ(α) is piecewise quadratic, φ' piecewise linear and
@@ -258,7 +334,8 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     }
     nu.noalias() += alpha * delta_;
     // A full step that leaves the active rows as they were has reached the minimiser of the
-    // quadratic they make, which is the cost's (to round-off).
+    // quadratic they make, which is the cost's (to round-off; with an updated factor to the
+    // updates' round-off, which the rounds' impulses then check).
     bool same = std::abs(alpha - 1.0) < 1e-9;
     double moved = 0;
     for (int i = 0; i < m + s; ++i) {

@@ -55,6 +55,14 @@ struct TreeNewton {
   int solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, Eigen::VectorXd& nu,
             double tolerance, int max_steps, int max_rounds);
 
+  /// Rows entering or leaving the active set between two Newton steps of a solve are added to
+  /// or removed from the Hessian's factor one by one (rank-one updates and downdates) while
+  /// they are at most this many; more, and the Hessian is rebuilt and factored whole. 0: always
+  /// whole (the same minimiser to round-off; a test compares the two).
+  int max_rank_updates = 8;
+  /// Counts since construction: Hessians factored whole, rows updated into or out of a factor.
+  long factorisations = 0, rank_updates = 0;
+
  private:
   Eigen::MatrixXd H_, S_;
   Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_, start_;
@@ -66,6 +74,12 @@ struct TreeNewton {
   // H_ = M + Σ D_i g_iᵀ g_i over the rows active_ marks, factored; false when not positive
   // definite.
   bool factorActive(const Eigen::MatrixXd& M);
+  // The factor of H_ ± D_i g_iᵀ g_i from H_'s, for each row i listed in changed_ (+ where it
+  // became active, − where it left); false when a downdate would cancel a pivot to below
+  // kMinPivotRatio of its square (the factor is then spoilt: the caller factors whole).
+  bool updateFactor();
+  // H_ ± x_ x_ᵀ on the factor, x_ nonzero at coordinates ≤ top (and zero again on return).
+  bool rankOne(int top, double sign);
   // z_ = the rows' residuals g_i ν − re_i.
   void residuals(const Eigen::VectorXd& nu);
   // The cost at ν with the targets re_ (z_ left at ν, M (ν − ν_f) in work_).
@@ -84,12 +98,14 @@ struct TreeNewton {
   bool factorHessian();
   // x ← H⁻¹ x with that factor.
   void solveHessian(Eigen::VectorXd& x) const;
-  Eigen::VectorXd inv_diag_;                   // 1 / L_kk
-  std::vector<int> nz_, nz_begin_, nz_count_;  // per row k of L: the columns j < k it holds
+  Eigen::VectorXd inv_diag_;        // 1 / L_kk
+  std::vector<int> nz_, nz_count_;  // per row k of L: the columns j < k it holds, from k nv on
   // Per row of g its nonzero columns (row i: row_nz_[row_nz_begin_[i]] up to
   // row_nz_[row_nz_begin_[i + 1]]), found once per solve (trees of at most kSparseMax coordinates).
   std::vector<int> row_nz_, row_nz_begin_;
   std::vector<char> active_;  // the rows active in H_'s factor
+  std::vector<int> changed_;  // the rows whose activity changed at this Newton step
+  Eigen::VectorXd x_;         // rankOne's vector, zero between calls
   bool factored_ = false;     // H_'s lower triangle holds the factor for active_
   // φ'(α) of the line search along delta_ (z_, gd_ the rows' residuals and rates along it)
   // and φ'' there. splitRows() sums once the rows that stay on one side of their kink for

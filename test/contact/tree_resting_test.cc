@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
 #include "cga_rigid_sim/sim/data.h"
@@ -51,6 +52,102 @@ TEST(TreeResting, NewtonSolvesRedundantRowsExactly) {
   EXPECT_NEAR(nu[1], 0.5, 1e-10);
   EXPECT_NEAR(S.single[0].beta, 2.0, 1e-9);
   EXPECT_NEAR(S.single[1].beta, 7.5, 1e-9);
+}
+
+// The Hessian's factor kept by rank-one updates as rows enter and leave the active set
+// (TreeNewton::max_rank_updates) against the same solve factoring every Hessian whole: a
+// problem on a tree's sparsity — twelve coordinates, a base chain 0-5 and branches 6-7-8, 7-11
+// and 9-10 off 5, M = Lᵀ L with L nonzero on a coordinate's ancestors only — with sixteen
+// rows on paths from a leaf to the base, two across branches (a contact between two links)
+// and four stops, their targets spread so that the Newton steps move rows in and out a few at
+// a time, solved cold over several augmented Lagrangian rounds. Both must end at the same
+// minimiser: the updates' factor differs from a whole one by round-off amplified by the
+// Hessian's condition (D = 1e3 on rows of norm ~1–2 against M's eigenvalues 0.1–5: ≲ 1e5)
+// times ~1e-16 per update, and both solves stop at the same tolerance, 1e-12 m/s on every
+// row; 1e-10 of the answer's scale bounds both (measured: ν 4e-16, β 4e-14 relative; one
+// whole factor and 22 updates against 9 whole factors). The updated solve must have updated
+// (a test of the path, not only of its answer) and factored fewer Hessians whole.
+TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
+  const std::vector<int> parent = {-1, 0, 1, 2, 3, 4, 5, 6, 7, 5, 9, 7};
+  const int n = static_cast<int>(parent.size());
+  unsigned state = 2468u;  // deterministic values in [−1, 1]
+  const auto value = [&] {
+    state = state * 1103515245u + 12345u;
+    return static_cast<double>((state >> 8) & 0xffff) / 32767.5 - 1.0;
+  };
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 0; k < n; ++k) {
+    L(k, k) = 1.0 + 0.5 * std::abs(value());
+    for (int j = parent[k]; j >= 0; j = parent[j]) L(k, j) = 0.3 * value();
+  }
+  const Eigen::MatrixXd M = L.transpose() * L;
+  const auto pathRow = [&](int leaf) {
+    Eigen::RowVectorXd g = Eigen::RowVectorXd::Zero(n);
+    for (int k = leaf; k >= 0; k = parent[k]) g[k] = value();
+    return g;
+  };
+  const int m = 18, s = 4;
+  Eigen::MatrixXd G(m, n);
+  const int leaves[] = {8, 11, 10, 6, 3, 7};
+  for (int i = 0; i < 16; ++i) G.row(i) = pathRow(leaves[i % 6]);
+  G.row(16) = pathRow(8) - pathRow(10);
+  G.row(17) = pathRow(11) - pathRow(9);
+  Eigen::VectorXd r(m), nu_f(n);
+  for (int i = 0; i < m; ++i) r[i] = 0.5 * value();
+  for (int k = 0; k < n; ++k) nu_f[k] = value();
+  struct Result {
+    Eigen::VectorXd nu, beta;
+    long factorisations, updates;
+  };
+  const auto solve = [&](int max_rank_updates) {
+    TreeNewton N;
+    N.max_rank_updates = max_rank_updates;
+    N.resize(m, s, n);
+    N.g.topRows(m) = G;
+    N.r.head(m) = r;
+    N.D.head(m).setConstant(1e3);
+    N.beta.head(m).setZero();
+    N.single[0] = {10, -1.0, -0.5, 1e3, 0.0};  // ν_10 ≤ 0.5
+    N.single[1] = {4, 1.0, -0.1, 1e3, 0.0};    // ν_4 ≥ −0.1
+    N.single[2] = {0, 1.0, 0.3, 1e3, 0.0};     // ν_0 ≥ 0.3
+    N.single[3] = {11, -1.0, 0.0, 1e3, 0.0};   // ν_11 ≤ 0
+    Eigen::VectorXd nu = nu_f;
+    EXPECT_GT(N.solve(M, nu_f, nu, 1e-12, 30, 20), 0);
+    Eigen::VectorXd beta(m + s);
+    beta << N.beta.head(m), N.single[0].beta, N.single[1].beta, N.single[2].beta, N.single[3].beta;
+    return Result{nu, beta, N.factorisations, N.rank_updates};
+  };
+  const Result whole = solve(0), updated = solve(8);
+  EXPECT_EQ(whole.updates, 0);
+  EXPECT_GT(updated.updates, 0);
+  EXPECT_LT(updated.factorisations, whole.factorisations);
+  const double nu_scale = whole.nu.cwiseAbs().maxCoeff(),
+               beta_scale = whole.beta.cwiseAbs().maxCoeff();
+  ASSERT_GT(beta_scale, 0.0);
+  EXPECT_LE((updated.nu - whole.nu).cwiseAbs().maxCoeff(), 1e-10 * nu_scale);
+  EXPECT_LE((updated.beta - whole.beta).cwiseAbs().maxCoeff(), 1e-10 * beta_scale);
+}
+
+// A downdate that would cancel its pivot away: one coordinate (M = 1) and one row ν ≥ −1 so
+// stiff (D = 1e14) that removing it leaves 1/(1 + D) of the pivot's square, past the updates'
+// bound (1e-9). Warm-started with an impulse, the row enters the first factor and leaves at the
+// first Newton step (ν = 0 is the minimiser, where it is slack): that downdate must be refused
+// and the Hessian factored whole again, and the answer is exact, ν = 0 and no impulse.
+TEST(TreeResting, NewtonRefusesADowndateThatCancelsItsPivot) {
+  TreeNewton N;
+  N.resize(1, 0, 1);
+  N.g(0, 0) = 1.0;
+  N.r[0] = -1.0;
+  N.D[0] = 1e14;
+  N.beta[0] = 0.5e14;  // its target shifted to −1 + β / D = −0.5
+  const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(1, 1);
+  const Eigen::VectorXd nu_f = Eigen::VectorXd::Zero(1);
+  Eigen::VectorXd nu = nu_f;
+  ASSERT_GT(N.solve(M, nu_f, nu, 1e-11, 20, 20), 0);
+  EXPECT_EQ(nu[0], 0.0);
+  EXPECT_EQ(N.beta[0], 0.0);
+  EXPECT_EQ(N.rank_updates, 1);
+  EXPECT_EQ(N.factorisations, 2);  // the warm start's, and the one that replaced the downdate
 }
 
 // The generated humanoid (~35 kg, 10 mesh links, ±2.5 rad stops) 1 cm above the plane: it lands
