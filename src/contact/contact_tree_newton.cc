@@ -43,6 +43,7 @@ void TreeNewton::resize(int m, int s, int n) {
     work_.resize(n);
     dnu_.resize(n);
     start_.resize(n);
+    mdnu_.resize(n);
     x_.setZero(n);
   }
   rows = m;
@@ -280,13 +281,17 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
     if (predicted < 0) return -1;
     step += predicted;
   }
+  bool carried = false;  // z_, dnu_ and mdnu_ carried along the last step instead of computed
   while (step < max_steps) {
     ++step;
     // The residuals z_i = g_i ν − r_i, the gradient and, over the active rows (z_i < 0), the
     // Hessian M + Σ D_i g_iᵀ g_i.
-    residuals(nu);
-    dnu_ = nu - nu_f;
-    grad_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
+    if (!carried) {
+      residuals(nu);
+      dnu_ = nu - nu_f;
+      mdnu_.noalias() = M.selfadjointView<Eigen::Lower>() * dnu_;
+    }
+    grad_ = mdnu_;
     // The active rows; the Hessian depends on them alone (and on M): when they are those of
     // the factor kept from the last step (of this solve), it is reused.
     changed_.clear();
@@ -343,6 +348,11 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       same = same && ((z_[i] + alpha * gd_[i] < 0) == (active_[i] != 0));
     }
     if (same || moved <= tolerance) break;
+    // The next step's residuals and M (ν − ν_f) from this one's products along δ.
+    z_.head(m + s) += alpha * gd_.head(m + s);
+    dnu_.noalias() += alpha * delta_;
+    mdnu_.noalias() += alpha * work_;
+    carried = true;
   }
   return step;
 }

@@ -66,6 +66,7 @@ struct TreeNewton {
  private:
   Eigen::MatrixXd H_, S_;
   Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_, start_;
+  Eigen::VectorXd mdnu_;  // M (ν − ν_f) at the Newton step's ν
   // One round: Newton steps on the cost with the targets re_ until a step moves no row's
   // velocity by more than `tolerance` (or max_steps); the steps taken, −1 on failure. With
   // from_impulses it starts with predict().
