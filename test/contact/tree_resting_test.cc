@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
@@ -55,22 +56,24 @@ TEST(TreeResting, NewtonSolvesRedundantRowsExactly) {
 }
 
 // The Hessian's factor kept by rank-one updates as rows enter and leave the active set
-// (TreeNewton::max_rank_updates) against the same solve factoring every Hessian whole: a
-// problem on a tree's sparsity — twelve coordinates, a base chain 0-5 and branches 6-7-8, 7-11
-// and 9-10 off 5, M = Lᵀ L with L nonzero on a coordinate's ancestors only — with sixteen
-// rows on paths from a leaf to the base, two across branches (a contact between two links)
-// and four stops, their targets spread so that the Newton steps move rows in and out a few at
-// a time, solved cold over several augmented Lagrangian rounds. Both must end at the same
-// minimiser: the updates' factor differs from a whole one by round-off amplified by the
-// Hessian's condition (D = 1e3 on rows of norm ~1–2 against M's eigenvalues 0.1–5: ≲ 1e5)
-// times ~1e-16 per update, and both solves stop at the same tolerance, 1e-12 m/s on every
-// row; 1e-10 of the answer's scale bounds both (measured: ν 4e-16, β 4e-14 relative; one
-// whole factor and 22 updates against 9 whole factors). The updated solve must have updated
-// (a test of the path, not only of its answer) and factored fewer Hessians whole.
-TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
-  const std::vector<int> parent = {-1, 0, 1, 2, 3, 4, 5, 6, 7, 5, 9, 7};
+// (TreeNewton::max_rank_updates) against the same solve factoring every Hessian whole, on a
+// problem on a tree's sparsity (`parent`, each coordinate's): M = Lᵀ L with L nonzero on a
+// coordinate's ancestors only, rows on paths from the `leaves` to the base and across two
+// branches (a contact between two links, `across`), and `stops`, their targets spread so that
+// the Newton steps move rows in and out a few at a time, solved cold over several augmented
+// Lagrangian rounds. Both must end at the same minimiser: the updates' factor differs from a
+// whole one by round-off amplified by the Hessian's condition (D = 1e3 on rows of norm ~1–10
+// against M's eigenvalues ~0.1–10: ≲ 1e6) times ~1e-16 per update, and both solves stop at the
+// same tolerance, 1e-12 m/s on every row; 1e-10 of the answer's scale bounds both. The updated
+// solve must have updated (a test of the path, not only of its answer) and factored fewer
+// Hessians whole.
+void expectUpdatesReachTheWholeFactorsMinimiser(const std::vector<int>& parent,
+                                                const std::vector<int>& leaves,
+                                                const std::vector<std::pair<int, int>>& across,
+                                                const std::vector<TreeNewton::Single>& stops,
+                                                unsigned seed) {
   const int n = static_cast<int>(parent.size());
-  unsigned state = 2468u;  // deterministic values in [−1, 1]
+  unsigned state = seed;  // deterministic values in [−1, 1]
   const auto value = [&] {
     state = state * 1103515245u + 12345u;
     return static_cast<double>((state >> 8) & 0xffff) / 32767.5 - 1.0;
@@ -78,7 +81,10 @@ TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
   Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
   for (int k = 0; k < n; ++k) {
     L(k, k) = 1.0 + 0.5 * std::abs(value());
-    for (int j = parent[k]; j >= 0; j = parent[j]) L(k, j) = 0.3 * value();
+    int depth = 0;
+    for (int j = parent[k]; j >= 0; j = parent[j]) ++depth;
+    // Off the diagonal ~0.3 / √depth, so that a deep chain's M stays well conditioned.
+    for (int j = parent[k]; j >= 0; j = parent[j]) L(k, j) = 0.3 * value() / std::sqrt(depth);
   }
   const Eigen::MatrixXd M = L.transpose() * L;
   const auto pathRow = [&](int leaf) {
@@ -86,14 +92,14 @@ TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
     for (int k = leaf; k >= 0; k = parent[k]) g[k] = value();
     return g;
   };
-  const int m = 18, s = 4;
+  const int m = static_cast<int>(leaves.size() + across.size());
+  const int s = static_cast<int>(stops.size());
   Eigen::MatrixXd G(m, n);
-  const int leaves[] = {8, 11, 10, 6, 3, 7};
-  for (int i = 0; i < 16; ++i) G.row(i) = pathRow(leaves[i % 6]);
-  G.row(16) = pathRow(8) - pathRow(10);
-  G.row(17) = pathRow(11) - pathRow(9);
+  int i = 0;
+  for (const int leaf : leaves) G.row(i++) = pathRow(leaf);
+  for (const auto& [a, b] : across) G.row(i++) = pathRow(a) - pathRow(b);
   Eigen::VectorXd r(m), nu_f(n);
-  for (int i = 0; i < m; ++i) r[i] = 0.5 * value();
+  for (int k = 0; k < m; ++k) r[k] = 0.5 * value();
   for (int k = 0; k < n; ++k) nu_f[k] = value();
   struct Result {
     Eigen::VectorXd nu, beta;
@@ -107,14 +113,12 @@ TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
     N.r.head(m) = r;
     N.D.head(m).setConstant(1e3);
     N.beta.head(m).setZero();
-    N.single[0] = {10, -1.0, -0.5, 1e3, 0.0};  // ν_10 ≤ 0.5
-    N.single[1] = {4, 1.0, -0.1, 1e3, 0.0};    // ν_4 ≥ −0.1
-    N.single[2] = {0, 1.0, 0.3, 1e3, 0.0};     // ν_0 ≥ 0.3
-    N.single[3] = {11, -1.0, 0.0, 1e3, 0.0};   // ν_11 ≤ 0
+    for (int j = 0; j < s; ++j) N.single[j] = stops[j];
     Eigen::VectorXd nu = nu_f;
     EXPECT_GT(N.solve(M, nu_f, nu, 1e-12, 30, 20), 0);
     Eigen::VectorXd beta(m + s);
-    beta << N.beta.head(m), N.single[0].beta, N.single[1].beta, N.single[2].beta, N.single[3].beta;
+    beta.head(m) = N.beta.head(m);
+    for (int j = 0; j < s; ++j) beta[m + j] = N.single[j].beta;
     return Result{nu, beta, N.factorisations, N.rank_updates};
   };
   const Result whole = solve(0), updated = solve(8);
@@ -126,6 +130,37 @@ TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
   ASSERT_GT(beta_scale, 0.0);
   EXPECT_LE((updated.nu - whole.nu).cwiseAbs().maxCoeff(), 1e-10 * nu_scale);
   EXPECT_LE((updated.beta - whole.beta).cwiseAbs().maxCoeff(), 1e-10 * beta_scale);
+  // Every stop acts: the single rows' updates are exercised too.
+  for (int j = 0; j < s; ++j) EXPECT_GT(whole.beta[m + j], 0.0) << "stop " << j;
+}
+
+// Twelve coordinates, a base chain 0-5 and branches 6-7-8, 7-11 and 9-10 off 5: sixteen rows
+// on paths, two across branches, four stops (measured: ν 7e-16, β 2e-14 relative; one whole
+// factor and 21 updates against 8 whole factors).
+TEST(TreeResting, NewtonRankUpdatesReachTheWholeFactorsMinimiser) {
+  std::vector<int> leaves;
+  for (int i = 0; i < 16; ++i) leaves.push_back(std::vector<int>{8, 11, 10, 6, 3, 7}[i % 6]);
+  expectUpdatesReachTheWholeFactorsMinimiser({-1, 0, 1, 2, 3, 4, 5, 6, 7, 5, 9, 7}, leaves,
+                                             {{8, 10}, {11, 9}},
+                                             {{10, -1.0, -0.5, 1e3, 0.0},  // ν_10 ≤ 0.5
+                                              {4, 1.0, -0.1, 1e3, 0.0},    // ν_4 ≥ −0.1
+                                              {0, 1.0, 0.3, 1e3, 0.0},     // ν_0 ≥ 0.3
+                                              {11, -1.0, 0.0, 1e3, 0.0}},  // ν_11 ≤ 0
+                                             2468u);
+}
+
+// The same past the size up to which the Hessian is built over each row's nonzeros (256
+// coordinates): a chain of 260 with a branch of 10 off coordinate 200, whose rows and factor
+// are dense, updated by the same code with every row scanned whole (measured: ν 3e-16, β 3e-12
+// relative; one whole factor and 7 updates against 4 whole factors).
+TEST(TreeResting, NewtonRankUpdatesOnALargeTreeReachTheWholeFactorsMinimiser) {
+  std::vector<int> parent(270);
+  for (int k = 0; k < 270; ++k) parent[k] = k == 260 ? 200 : k - 1;
+  std::vector<int> leaves;
+  for (int i = 0; i < 40; ++i)
+    leaves.push_back(std::vector<int>{259, 269, 230, 150, 265, 100, 262, 245}[i % 8]);
+  expectUpdatesReachTheWholeFactorsMinimiser(
+      parent, leaves, {{259, 269}}, {{255, 1.0, 0.2, 1e3, 0.0}, {268, -1.0, 0.1, 1e3, 0.0}}, 1357u);
 }
 
 // A downdate that would cancel its pivot away: one coordinate (M = 1) and one row ν ≥ −1 so
