@@ -10,48 +10,6 @@
 namespace cga_rigid_sim {
 namespace sim {
 namespace detail {
-namespace {
-
-// The column M⁻¹ e_k of a limit row, made the first time the row acts in a step.
-void makeColumn(const SolverTree& t, SolverTree::LimitRow& r) {
-  r.column.setZero(t.nu.size());
-  r.column[r.index] = 1.0;
-  t.factor.solveInPlace(r.column);
-  r.a = r.column[r.index];
-}
-
-// One Gauss–Seidel pass over tree t's limit rows: the rates `nu` (ν, or pν with `base` = the
-// rates it adds to: ν for the position correction) kept so that q + h (base_k + nu_k) stays
-// within [lower, upper], by the accumulated impulses *y_lower ≥ 0 and *y_upper ≤ 0 on the
-// joint. Returns the largest change of a rate.
-template <Eigen::VectorXd SolverTree::*Nu, double SolverTree::LimitRow::*Lower,
-          double SolverTree::LimitRow::*Upper>
-double sweepLimits(SolverTree& t, double h, const Eigen::VectorXd* base) {
-  double change = 0.0;
-  Eigen::VectorXd& nu = t.*Nu;
-  for (SolverTree::LimitRow& r : t.limits) {
-    const double b = base ? (*base)[r.index] : 0.0;
-    const double lo = (r.lower - r.q) / h - b, hi = (r.upper - r.q) / h - b;
-    double v = nu[r.index];
-    if (r.*Lower == 0.0 && r.*Upper == 0.0 && v >= lo && v <= hi) continue;  // free
-    if (r.a == 0.0) makeColumn(t, r);
-    if (!(r.a > 0.0)) continue;
-    const double yl = std::max(0.0, r.*Lower + (lo - v) / r.a);
-    double dy = yl - r.*Lower;
-    r.*Lower = yl;
-    v += dy * r.a;
-    const double yu = std::min(0.0, r.*Upper + (hi - v) / r.a);
-    dy += yu - r.*Upper;
-    r.*Upper = yu;
-    if (dy == 0.0) continue;
-    nu.noalias() += dy * r.column;
-    change = std::max(change, std::abs(dy * r.a));
-  }
-  return change;
-}
-
-}  // namespace
-
 void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   const int n = static_cast<int>(t.nu.size()), m = static_cast<int>(t.limits.size());
   std::vector<SolverWork::TreeSweeps::Run>& stop = T.stop[tree];
@@ -88,13 +46,21 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   }
 }
 
-// The velocity sweeps' pass: the rate ν_k = ν₀_k + sᵀ z, an impulse dy adds dy s to z. A stop
-// without impulse whose rate cannot have reached its bounds is passed over without computing sᵀ z:
-// |sᵀ z| ≤ |s| |z| (Cauchy–Schwarz), and |z| is kept as an upper bound through the pass (it grows
-// by at most |dy| |s| an impulse). The bound allows for the rounding of ν₀_k + sᵀ z (at most
-// ~1e-15 of its terms), so a stop passed over is one the sum would have found free: the same
-// answer to the bit.
-double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+namespace {
+
+// One Gauss–Seidel pass over tree t's limit rows in the sweeps' coordinates (SolverWork::
+// TreeSweeps): the rate ν_k = ν₀_k + sᵀ z is kept so that q + h ν_k stays within [lower, upper]
+// by the accumulated impulses *y_lower ≥ 0 and *y_upper ≤ 0 on the joint; an impulse dy adds
+// dy s to z. kPosition: the position correction's pass, its rate pν_k = sᵀ z on top of ν_k (its
+// bounds less ν_k, as the correction's dense pass had them). Returns the largest change of a rate.
+//
+// A stop without impulse whose rate cannot have reached its bounds is passed over without
+// computing sᵀ z: |sᵀ z| ≤ |s| |z| (Cauchy–Schwarz), and |z| is kept as an upper bound through the
+// pass (it grows by at most |dy| |s| an impulse). The bound allows for the rounding of
+// ν₀_k + sᵀ z (at most ~1e-15 of its terms), so a stop passed over is one the sum would have found
+// free: the same answer to the bit.
+template <double SolverTree::LimitRow::*Lower, double SolverTree::LimitRow::*Upper, bool kPosition>
+double sweepSweptLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
   double change = 0.0;
   double* z = T.z[tree].data();
   double z_norm = T.z[tree].norm() * (1.0 + 1e-12);
@@ -102,9 +68,11 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
   const double* s = T.s.data();
   for (std::size_t j = 0; j < t.limits.size(); ++j) {
     SolverTree::LimitRow& r = t.limits[j];
-    const double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
-    const double v0 = t.nu[r.index], s_norm = T.stop_norm[tree][j];
-    const bool loaded = r.y_lower != 0.0 || r.y_upper != 0.0;
+    double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
+    double v0 = t.nu[r.index];
+    if (kPosition) lo -= v0, hi -= v0, v0 = 0.0;
+    const double s_norm = T.stop_norm[tree][j];
+    const bool loaded = r.*Lower != 0.0 || r.*Upper != 0.0;
     if (!loaded) {
       const double reach = s_norm * z_norm * (1.0 + 1e-12) + 1e-14 * std::abs(v0);
       if (v0 - reach > lo && v0 + reach < hi) continue;  // free, and known to be
@@ -115,13 +83,13 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
     if (!loaded && v >= lo && v <= hi) continue;  // free
     const double a = T.stop_a[tree][j];
     if (!(a > 0.0)) continue;
-    const double yl = std::max(0.0, r.y_lower + (lo - v) / a);
-    double dy = yl - r.y_lower;
-    r.y_lower = yl;
+    const double yl = std::max(0.0, r.*Lower + (lo - v) / a);
+    double dy = yl - r.*Lower;
+    r.*Lower = yl;
     v += dy * a;
-    const double yu = std::min(0.0, r.y_upper + (hi - v) / a);
-    dy += yu - r.y_upper;
-    r.y_upper = yu;
+    const double yu = std::min(0.0, r.*Upper + (hi - v) / a);
+    dy += yu - r.*Upper;
+    r.*Upper = yu;
     if (dy == 0.0) continue;
     for (int i = run.first; i < run.first + run.size; ++i) z[coordinate[i]] += dy * s[i];
     z_norm += std::abs(dy) * s_norm * (1.0 + 1e-12);
@@ -130,9 +98,16 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
   return change;
 }
 
-double sweepPositionLimits(SolverTree& t, double h) {
-  return sweepLimits<&SolverTree::pnu, &SolverTree::LimitRow::p_lower,
-                     &SolverTree::LimitRow::p_upper>(t, h, &t.nu);
+}  // namespace
+
+double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  return sweepSweptLimits<&SolverTree::LimitRow::y_lower, &SolverTree::LimitRow::y_upper, false>(
+      t, tree, T, h);
+}
+
+double sweepPositionLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  return sweepSweptLimits<&SolverTree::LimitRow::p_lower, &SolverTree::LimitRow::p_upper, true>(
+      t, tree, T, h);
 }
 
 }  // namespace detail
