@@ -21,14 +21,39 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
   columns.setZero(n, 3);
   const bool sparse = t.factor.sparse();
-  // Two stops a half solve (its columns 0 and 1: it walks the union of two paths).
-  for (int j = 0; j < m; j += 2) {
-    const int pair = std::min(2, m - j);
-    for (int c = 0; c < pair; ++c) columns(t.limits[j + c].index, c) = 1.0;
-    t.factor.halfSolve(columns, t.limits[j].index, pair > 1 ? t.limits[j + 1].index : -1);
-    for (int c = 0; c < pair; ++c) {  // s = L⁻ᵀ e_k
-      const int k = t.limits[j + c].index;
-      SolverWork::TreeSweeps::Run& run = stop[j + c];
+  // Whether coordinate k is on the path from `leaf` to the base (a parent's index is smaller than
+  // its child's).
+  auto onPath = [&](int k, int leaf) {
+    if (k < 0) return false;
+    while (leaf > k) leaf = t.coordinate_parent[leaf];
+    return leaf == k;
+  };
+  // Up to three stops a half solve, one a column: it walks the union of the paths from two
+  // leaves to the base, and solves every column whose stop is on that union (a joint above
+  // another's, as down a limb's chain, rides along; with a dense factor, any three).
+  for (int j = 0; j < m;) {
+    int leaf_a = -1, leaf_b = -1, taken = 0;
+    for (; j + taken < m && taken < 3; ++taken) {
+      const int k = t.limits[j + taken].index;
+      if (!sparse || onPath(k, leaf_a) || onPath(k, leaf_b)) {
+        // on the union already
+      } else if (onPath(leaf_a, k)) {
+        leaf_a = k;
+      } else if (onPath(leaf_b, k)) {
+        leaf_b = k;
+      } else if (leaf_a < 0) {
+        leaf_a = k;
+      } else if (leaf_b < 0) {
+        leaf_b = k;
+      } else {
+        break;
+      }
+      columns(k, taken) = 1.0;
+    }
+    t.factor.halfSolve(columns, leaf_a, leaf_b);
+    for (int c = 0; c < taken; ++c, ++j) {  // s = L⁻ᵀ e_k
+      const int k = t.limits[j].index;
+      SolverWork::TreeSweeps::Run& run = stop[j];
       run.first = static_cast<int>(T.stop_coordinate.size());
       double a = 0.0;
       // s is zero off k's path to the base (with a dense factor: nowhere).
@@ -40,8 +65,8 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
         columns(i, c) = 0.0;
       }
       run.size = static_cast<int>(T.stop_coordinate.size()) - run.first;
-      stop_a[j + c] = a;
-      stop_norm[j + c] = std::sqrt(a);
+      stop_a[j] = a;
+      stop_norm[j] = std::sqrt(a);
     }
   }
 }
