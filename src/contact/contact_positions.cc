@@ -49,6 +49,44 @@ void loadNormals(std::vector<ContactRow>& rows, SolverWork& work, const SolverWo
   });
 }
 
+// Whether the runs loaded are island I's rows' as they are: each tree side's first entry of Y
+// against the row's own (a guard against a marker left by a velocity solve this correction did
+// not follow; a run made at another pose or for another row does not match to the bit).
+bool runsMatch(std::vector<ContactRow>& rows, const SolverWork& work, const SolverWork::Island& I) {
+  const SolverWork::TreeSweeps& T = work.tree_sweeps;
+  if (T.side_a.size() < rows.size() || T.side_b.size() < rows.size()) return false;
+  bool match = true;
+  forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+    forTreeSides(T, c, k, [&](int, const SolverWork::TreeSweeps::Run& run, bool b) {
+      const Eigen::Matrix<double, Eigen::Dynamic, 3>& Y = b ? c.wb : c.wa;
+      match = match && run.size > 0 && run.first + run.size <= static_cast<int>(T.y.size()) &&
+              T.coordinate[run.first] < Y.rows() &&
+              T.y[run.first] == Y.row(T.coordinate[run.first]).transpose();
+    });
+  });
+  return match;
+}
+
+// The sweeps' coordinates for island I's position correction: z = 0 on its trees, with the runs
+// its velocity sweeps left if they were the last made (`swept`: the island whose runs are still
+// loaded from this step's velocity solve, the same rows and factor), else made again; and Y n.
+void loadPositionSweeps(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+                        SolverWork& work, const SolverWork::Island& I,
+                        const SolverWork::Island*& swept) {
+  if (I.trees == 0) return;
+  SolverWork::TreeSweeps& T = work.tree_sweeps;
+  if (swept == &I && runsMatch(rows, work, I)) {
+    for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
+      const int t = work.island_tree[q];
+      T.z[t].setZero(trees[t].nu.size());
+    }
+  } else {
+    loadTreeSweeps(trees, rows, work, I);
+    swept = nullptr;
+  }
+  loadNormals(rows, work, I);
+}
+
 // n·(J pν) of row k's tree sides: (Y n)ᵀ z over their runs.
 __attribute__((always_inline)) inline double sweptNormalVelocity(const SolverWork::TreeSweeps& T,
                                                                  const ContactRow& c,
@@ -146,6 +184,11 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
                     std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                     SolverWork& work) {
   for (SolverTree& t : trees) t.pnu.setZero(t.nu.size());
+  // The island whose runs the velocity solve's sweeps left, taken once: a later step's velocity
+  // solve may leave none (Newton's solves make no runs).
+  const SolverWork::Island* swept =
+      work.tree_sweeps.swept_rows == &rows ? work.tree_sweeps.swept_island : nullptr;
+  work.tree_sweeps.swept_island = nullptr;
   const std::size_t n = bodies.size();
   for (SolverBody& b : bodies) {
     b.pv.setZero();
@@ -164,8 +207,7 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     if (island_bias > st.correction * kExactCorrectionExcess / st.h &&
         correctTreePositions(st, trees, rows, work, I))
       continue;
-    detail::loadTreeSweeps(trees, rows, work, I);
-    detail::loadNormals(rows, work, I);
+    detail::loadPositionSweeps(trees, rows, work, I, swept);
     const double tolerance = 1e-3 * island_bias;  // 0.1 % of the island's largest correction
     for (int it = 0; it < st.position_iterations; ++it)
       if (detail::sweepPositions(st, trees, rows, work, I, tolerance) < tolerance) break;

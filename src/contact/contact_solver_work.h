@@ -113,6 +113,11 @@ struct SolverWork {
     std::vector<std::vector<double>> stop_a, stop_norm;
     /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
     std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
+    /// The island and rows whose runs these are once its velocity sweeps have run (set by
+    /// sweepIsland, cleared by loadSweptLimits and taken by the solvePositions that follows on
+    /// the same rows and islands, which then uses the runs as they are).
+    const Island* swept_island = nullptr;
+    const void* swept_rows = nullptr;
   };
   TreeSweeps tree_sweeps;
 };

@@ -20,6 +20,7 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   stop_norm.resize(m);
   Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
   columns.setZero(n, 3);
+  T.swept_island = nullptr;  // the runs are being made anew
   const bool sparse = t.factor.sparse();
   // Whether coordinate k is on the path from `leaf` to the base (a parent's index is smaller than
   // its child's).

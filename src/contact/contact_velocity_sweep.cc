@@ -148,6 +148,7 @@ double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
                    bool patch, double tolerance) {
   SolverWork::TreeSweeps& T = work.tree_sweeps;
+  if (I.trees > 0) T.swept_island = &I, T.swept_rows = &rows;  // (loadTreeSweeps made the runs)
   forBodies(work, I, [&](int s) { work.vel_sweep[s] = work.vel[s]; });
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q)
     T.z_sweep[work.island_tree[q]] = T.z[work.island_tree[q]];
