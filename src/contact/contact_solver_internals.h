@@ -4,7 +4,7 @@
 // named for it:
 //
 //   contact_delassus.cc        the rows: basis, lever arms, Delassus blocks (prepareRows)
-//   contact_tree_jacobians.cc  a tree side's Jacobian J, its response M⁻¹ Jᵀ and their products
+//   contact_tree_jacobians.cc  a tree side's Jacobian J, the first half of its response M⁻¹ Jᵀ
 //   contact_face_blocks.cc     the face blocks (SolverWork::Group)
 //   contact_islands.cc         the islands (SolverWork::Island)
 //   contact_row_targets.cc     each row's target: touch, gap, impact, compliant spring

@@ -1,7 +1,8 @@
 // A contact's side on a link of an articulated tree (doc/contacts.md#trees): the link has no
 // velocity of its own, so the side reads and changes its tree's generalized velocity ν through
 // the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ (Δν = W P); its part
-// of the contact's Delassus block is J W.
+// of the contact's Delassus block is J W = Yᵀ Y, Y = L⁻ᵀ Jᵀ the first half of W, on which the
+// sweeps work (W itself is not made).
 #include <vector>
 
 #include "contact/contact_solver_internals.h"
