@@ -52,10 +52,16 @@ void loadNormals(std::vector<ContactRow>& rows, SolverWork& work, const SolverWo
 // Whether the runs loaded are island I's rows' as they are: each tree side's first entry of Y
 // against the row's own (a guard against a marker left by a velocity solve this correction did
 // not follow; a run made at another pose or for another row does not match to the bit).
-bool runsMatch(std::vector<ContactRow>& rows, const SolverWork& work, const SolverWork::Island& I) {
+bool runsMatch(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
+               const SolverWork& work, const SolverWork::Island& I) {
   const SolverWork::TreeSweeps& T = work.tree_sweeps;
   if (T.side_a.size() < rows.size() || T.side_b.size() < rows.size()) return false;
   bool match = true;
+  for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {  // a run per stop
+    const int t = work.island_tree[q];
+    match = match && t < static_cast<int>(T.stop.size()) && t < static_cast<int>(T.z.size()) &&
+            T.stop[t].size() == trees[t].limits.size();
+  }
   forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
     forTreeSides(T, c, k, [&](int, const SolverWork::TreeSweeps::Run& run, bool b) {
       const Eigen::Matrix<double, Eigen::Dynamic, 3>& Y = b ? c.wb : c.wa;
@@ -75,7 +81,7 @@ void loadPositionSweeps(const std::vector<SolverTree>& trees, std::vector<Contac
                         const SolverWork::Island*& swept) {
   if (I.trees == 0) return;
   SolverWork::TreeSweeps& T = work.tree_sweeps;
-  if (swept == &I && runsMatch(rows, work, I)) {
+  if (swept == &I && runsMatch(trees, rows, work, I)) {
     for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
       const int t = work.island_tree[q];
       T.z[t].setZero(trees[t].nu.size());
