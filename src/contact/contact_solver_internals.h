@@ -4,7 +4,7 @@
 // named for it:
 //
 //   contact_delassus.cc        the rows: basis, lever arms, Delassus blocks (prepareRows)
-//   contact_tree_jacobians.cc  a tree side's Jacobian J, its response M⁻¹ Jᵀ and their products
+//   contact_tree_jacobians.cc  a tree side's Jacobian J, the first half of its response M⁻¹ Jᵀ
 //   contact_face_blocks.cc     the face blocks (SolverWork::Group)
 //   contact_islands.cc         the islands (SolverWork::Island)
 //   contact_row_targets.cc     each row's target: touch, gap, impact, compliant spring
@@ -30,8 +30,8 @@ inline bool onTree(const ContactRow& c) { return c.ta >= 0 || c.tb >= 0; }
 
 // ---- Per contact (the sweeps' whole cost) ----
 
-/// u = J ν of the contact's tree sides (ν or, for the position correction, pν; or their change
-/// over a sweep), J from contact_tree_jacobians.cc.
+/// u = J ν of the contact's tree sides (ν, or ν before the impulses), J from
+/// contact_tree_jacobians.cc.
 template <Eigen::VectorXd SolverTree::*Nu>
 Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const ContactRow& c) {
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
@@ -39,11 +39,6 @@ Eigen::Vector3d treeVelocity(const std::vector<SolverTree>& trees, const Contact
   if (c.tb >= 0) u.noalias() -= c.jb * (trees[c.tb].*Nu);
   return u;
 }
-
-/// The impulse P (world axes), +P on side a and −P on side b, added to a tree side's ν or pν
-/// (Nu: nu or pnu; contact_tree_jacobians.cc).
-template <Eigen::VectorXd SolverTree::*Nu>
-void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c, const Eigen::Vector3d& P);
 
 /// The relative velocity of a's point against b's (slots a, b of `vel`; the dummy for none),
 /// written out in scalars: this and applyTo are the sweeps' whole cost, and the compiler
@@ -84,16 +79,14 @@ __attribute__((always_inline)) inline void kick(Twist& t, const SolverWork::Resp
   kickNet(t, resp, P, r.cross(P));
 }
 
-/// The impulse P (world axes) at the contact, +P on a and −P on b, added to `vel` (the
-/// velocities or, for the position correction, the pseudo-velocities); a tree side's to its ν
-/// or pν.
-template <Eigen::VectorXd SolverTree::*Nu>
+/// The impulse P (world axes) at a contact between bodies, +P on a and −P on b, added to `vel`.
+/// (A row with a tree side is a face block of its own; its tree sides move the sweeps' z:
+/// applySwept, and the position correction's normal alone.)
 __attribute__((always_inline)) inline void applyTo(
-    std::vector<Twist>& vel, const std::vector<SolverWork::Response>& response,
-    std::vector<SolverTree>& trees, int a, int b, const ContactRow& c, const Eigen::Vector3d& P) {
+    std::vector<Twist>& vel, const std::vector<SolverWork::Response>& response, int a, int b,
+    const ContactRow& c, const Eigen::Vector3d& P) {
   kick(vel[a], response[a], c.ra, P.x(), P.y(), P.z());
   kick(vel[b], response[b], c.rb, -P.x(), -P.y(), -P.z());
-  if (onTree(c)) applyToTrees<Nu>(trees, c, P);
 }
 
 /// Calls f(t, run, b) for each tree side of row k: its tree, the coordinates of its link's path
@@ -202,13 +195,9 @@ inline double bodyChange(const SolverWork& work, const SolverWork::Island& I) {
 void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<SolverTree>& trees,
                    const Eigen::Vector3d& point_W, ContactRow& c);
 /// Adds the tree sides' J M⁻¹ Jᵀ to the Delassus block Kc (basis n, t1, t2; its upper triangle
-/// is kept) and to c.k_n, keeps them in c.ka, c.kb and the first half of their responses in
-/// c.wa, c.wb (contact_tree_jacobians.cc).
+/// is kept) and to c.k_n, keeps them in c.ka, c.kb and the first half of their responses,
+/// Y = L⁻ᵀ Jᵀ, in c.wa, c.wb: the sweeps work on Y (contact_tree_jacobians.cc).
 void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc);
-/// Makes the responses c.wa, c.wb = M⁻¹ Jᵀ of island I's rows that do not have them yet: before
-/// impulses are applied through them (the position correction's sweeps).
-void finishTreeResponses(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
-                         const SolverWork& work, const SolverWork::Island& I);
 
 /// The face blocks of the rows (contact_face_blocks.cc).
 void makeGroups(std::vector<ContactRow>& rows, SolverWork& work);
@@ -229,9 +218,10 @@ double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
                    bool patch, double tolerance);
 
-/// The velocity sweeps' coordinates of island I's trees (SolverWork::TreeSweeps): z = 0, and
-/// the runs of its rows' tree sides (from c.wa, c.wb, still the first half of their responses)
-/// and of its trees' limit rows (contact_velocity_solve.cc, contact_tree_limits.cc).
+/// The sweeps' coordinates of island I's trees (SolverWork::TreeSweeps): z = 0, and the runs of
+/// its rows' tree sides (from c.wa, c.wb, the first half of their responses) and of its trees'
+/// limit rows (contact_velocity_solve.cc, contact_tree_limits.cc); the velocity sweeps' and the
+/// position correction's.
 void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<ContactRow>& rows,
                     SolverWork& work, const SolverWork::Island& I);
 void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T);
@@ -239,11 +229,11 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T);
 void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
                       const SolverWork::Island& I);
 
-/// One pass over tree t's (index `tree`) limit rows in the velocity sweeps, on z, or on pν (the
-/// position correction, on top of ν); returns the largest change of a rate
-/// (contact_tree_limits.cc).
+/// One pass over tree t's (index `tree`) limit rows on z, in the velocity sweeps (ν = ν₀ + L⁻¹ z)
+/// or in the position correction's (pν = L⁻¹ z, on top of ν); returns the largest change of a
+/// rate (contact_tree_limits.cc).
 double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h);
-double sweepPositionLimits(SolverTree& t, double h);
+double sweepPositionLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h);
 
 }  // namespace detail
 }  // namespace sim

@@ -91,7 +91,7 @@ struct SolverWork {
   /// where ν itself would take the dense M⁻¹ Jᵀ P and J ν over every coordinate. A joint stop's
   /// rate is ν₀_k + sᵀ z, s = L⁻ᵀ e_k, on the coordinates from its joint to the base.
   /// (With mimic joints the factor is dense and so are Y and s.) ν is made from z once, after
-  /// the sweeps.
+  /// the sweeps. The position correction's sweeps take the same coordinates for pν = L⁻¹ z.
   struct TreeSweeps {
     /// A run of `coordinate` and `y` (a row side's nonzeros) or of `stop_coordinate` and `s`
     /// (a stop's).
@@ -102,7 +102,10 @@ struct SolverWork {
     std::vector<Eigen::Vector3d> u0;  ///< per row: J ν₀ of its tree sides (a's minus b's)
     std::vector<int> coordinate, stop_coordinate;
     std::vector<Eigen::Vector3d> y;  ///< per coordinate of a side's run: its row of Y
-    std::vector<double> s;           ///< per coordinate of a stop's run: its entry of s
+    /// Per coordinate of a side's run: Y n, its row's normal (negated on side b): the position
+    /// correction's sweeps push along the normal alone (contact_positions.cc).
+    std::vector<double> yn;
+    std::vector<double> s;  ///< per coordinate of a stop's run: its entry of s
     /// Per tree: z, and z before the current sweep; its limit rows' runs, sᵀ s = (M⁻¹)_kk and
     /// |s|.
     std::vector<Eigen::VectorXd> z, z_sweep;
@@ -110,6 +113,11 @@ struct SolverWork {
     std::vector<std::vector<double>> stop_a, stop_norm;
     /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
     std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
+    /// The island and rows whose runs these are once its velocity sweeps have run (set by
+    /// sweepIsland, cleared by loadSweptLimits and taken by the solvePositions that follows on
+    /// the same rows and islands, which then uses the runs as they are).
+    const Island* swept_island = nullptr;
+    const void* swept_rows = nullptr;
   };
   TreeSweeps tree_sweeps;
 };

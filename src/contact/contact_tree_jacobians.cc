@@ -1,7 +1,8 @@
 // A contact's side on a link of an articulated tree (doc/contacts.md#trees): the link has no
 // velocity of its own, so the side reads and changes its tree's generalized velocity ν through
 // the contact point's Jacobian J (u = J ν) and the response W = M(q)⁻¹ Jᵀ (Δν = W P); its part
-// of the contact's Delassus block is J W.
+// of the contact's Delassus block is J W = Yᵀ Y, Y = L⁻ᵀ Jᵀ the first half of W, on which the
+// sweeps work (W itself is not made).
 #include <vector>
 
 #include "contact/contact_solver_internals.h"
@@ -86,30 +87,6 @@ void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Ma
   Kc += B.transpose() * K * B;  // its upper triangle is kept
   c.k_n += K * c.n;
 }
-
-void finishTreeResponses(const std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
-                         const SolverWork& work, const SolverWork::Island& I) {
-  if (I.trees == 0) return;
-  forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
-    if (c.responses) return;
-    if (c.ta >= 0) trees[c.ta].factor.finishSolve(c.wa);
-    if (c.tb >= 0) trees[c.tb].factor.finishSolve(c.wb);
-    c.responses = true;
-  });
-}
-
-template <Eigen::VectorXd SolverTree::*Nu>
-__attribute__((noinline)) void applyToTrees(std::vector<SolverTree>& trees, const ContactRow& c,
-                                            const Eigen::Vector3d& P) {
-  if (c.ta >= 0) (trees[c.ta].*Nu).noalias() += c.wa * P;
-  if (c.tb >= 0) (trees[c.tb].*Nu).noalias() -= c.wb * P;
-}
-
-// The impulses the velocity solve and the position correction apply.
-template void applyToTrees<&SolverTree::nu>(std::vector<SolverTree>&, const ContactRow&,
-                                            const Eigen::Vector3d&);
-template void applyToTrees<&SolverTree::pnu>(std::vector<SolverTree>&, const ContactRow&,
-                                             const Eigen::Vector3d&);
 
 }  // namespace detail
 }  // namespace sim

@@ -10,48 +10,6 @@
 namespace cga_rigid_sim {
 namespace sim {
 namespace detail {
-namespace {
-
-// The column M⁻¹ e_k of a limit row, made the first time the row acts in a step.
-void makeColumn(const SolverTree& t, SolverTree::LimitRow& r) {
-  r.column.setZero(t.nu.size());
-  r.column[r.index] = 1.0;
-  t.factor.solveInPlace(r.column);
-  r.a = r.column[r.index];
-}
-
-// One Gauss–Seidel pass over tree t's limit rows: the rates `nu` (ν, or pν with `base` = the
-// rates it adds to: ν for the position correction) kept so that q + h (base_k + nu_k) stays
-// within [lower, upper], by the accumulated impulses *y_lower ≥ 0 and *y_upper ≤ 0 on the
-// joint. Returns the largest change of a rate.
-template <Eigen::VectorXd SolverTree::*Nu, double SolverTree::LimitRow::*Lower,
-          double SolverTree::LimitRow::*Upper>
-double sweepLimits(SolverTree& t, double h, const Eigen::VectorXd* base) {
-  double change = 0.0;
-  Eigen::VectorXd& nu = t.*Nu;
-  for (SolverTree::LimitRow& r : t.limits) {
-    const double b = base ? (*base)[r.index] : 0.0;
-    const double lo = (r.lower - r.q) / h - b, hi = (r.upper - r.q) / h - b;
-    double v = nu[r.index];
-    if (r.*Lower == 0.0 && r.*Upper == 0.0 && v >= lo && v <= hi) continue;  // free
-    if (r.a == 0.0) makeColumn(t, r);
-    if (!(r.a > 0.0)) continue;
-    const double yl = std::max(0.0, r.*Lower + (lo - v) / r.a);
-    double dy = yl - r.*Lower;
-    r.*Lower = yl;
-    v += dy * r.a;
-    const double yu = std::min(0.0, r.*Upper + (hi - v) / r.a);
-    dy += yu - r.*Upper;
-    r.*Upper = yu;
-    if (dy == 0.0) continue;
-    nu.noalias() += dy * r.column;
-    change = std::max(change, std::abs(dy * r.a));
-  }
-  return change;
-}
-
-}  // namespace
-
 void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   const int n = static_cast<int>(t.nu.size()), m = static_cast<int>(t.limits.size());
   std::vector<SolverWork::TreeSweeps::Run>& stop = T.stop[tree];
@@ -62,15 +20,41 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   stop_norm.resize(m);
   Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
   columns.setZero(n, 3);
+  T.swept_island = nullptr;  // the runs are being made anew
   const bool sparse = t.factor.sparse();
-  // Two stops a half solve (its columns 0 and 1: it walks the union of two paths).
-  for (int j = 0; j < m; j += 2) {
-    const int pair = std::min(2, m - j);
-    for (int c = 0; c < pair; ++c) columns(t.limits[j + c].index, c) = 1.0;
-    t.factor.halfSolve(columns, t.limits[j].index, pair > 1 ? t.limits[j + 1].index : -1);
-    for (int c = 0; c < pair; ++c) {  // s = L⁻ᵀ e_k
-      const int k = t.limits[j + c].index;
-      SolverWork::TreeSweeps::Run& run = stop[j + c];
+  // Whether coordinate k is on the path from `leaf` to the base (a parent's index is smaller than
+  // its child's).
+  auto onPath = [&](int k, int leaf) {
+    if (k < 0) return false;
+    while (leaf > k) leaf = t.coordinate_parent[leaf];
+    return leaf == k;
+  };
+  // Up to three stops a half solve, one a column: it walks the union of the paths from two
+  // leaves to the base, and solves every column whose stop is on that union (a joint above
+  // another's, as down a limb's chain, rides along; with a dense factor, any three).
+  for (int j = 0; j < m;) {
+    int leaf_a = -1, leaf_b = -1, taken = 0;
+    for (; j + taken < m && taken < 3; ++taken) {
+      const int k = t.limits[j + taken].index;
+      if (!sparse || onPath(k, leaf_a) || onPath(k, leaf_b)) {
+        // on the union already
+      } else if (onPath(leaf_a, k)) {
+        leaf_a = k;
+      } else if (onPath(leaf_b, k)) {
+        leaf_b = k;
+      } else if (leaf_a < 0) {
+        leaf_a = k;
+      } else if (leaf_b < 0) {
+        leaf_b = k;
+      } else {
+        break;
+      }
+      columns(k, taken) = 1.0;
+    }
+    t.factor.halfSolve(columns, leaf_a, leaf_b);
+    for (int c = 0; c < taken; ++c, ++j) {  // s = L⁻ᵀ e_k
+      const int k = t.limits[j].index;
+      SolverWork::TreeSweeps::Run& run = stop[j];
       run.first = static_cast<int>(T.stop_coordinate.size());
       double a = 0.0;
       // s is zero off k's path to the base (with a dense factor: nowhere).
@@ -82,19 +66,27 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
         columns(i, c) = 0.0;
       }
       run.size = static_cast<int>(T.stop_coordinate.size()) - run.first;
-      stop_a[j + c] = a;
-      stop_norm[j + c] = std::sqrt(a);
+      stop_a[j] = a;
+      stop_norm[j] = std::sqrt(a);
     }
   }
 }
 
-// The velocity sweeps' pass: the rate ν_k = ν₀_k + sᵀ z, an impulse dy adds dy s to z. A stop
-// without impulse whose rate cannot have reached its bounds is passed over without computing sᵀ z:
-// |sᵀ z| ≤ |s| |z| (Cauchy–Schwarz), and |z| is kept as an upper bound through the pass (it grows
-// by at most |dy| |s| an impulse). The bound allows for the rounding of ν₀_k + sᵀ z (at most
-// ~1e-15 of its terms), so a stop passed over is one the sum would have found free: the same
-// answer to the bit.
-double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+namespace {
+
+// One Gauss–Seidel pass over tree t's limit rows in the sweeps' coordinates (SolverWork::
+// TreeSweeps): the rate ν_k = ν₀_k + sᵀ z is kept so that q + h ν_k stays within [lower, upper]
+// by the accumulated impulses *y_lower ≥ 0 and *y_upper ≤ 0 on the joint; an impulse dy adds
+// dy s to z. kPosition: the position correction's pass, its rate pν_k = sᵀ z on top of ν_k (its
+// bounds less ν_k, as the correction's dense pass had them). Returns the largest change of a rate.
+//
+// A stop without impulse whose rate cannot have reached its bounds is passed over without
+// computing sᵀ z: |sᵀ z| ≤ |s| |z| (Cauchy–Schwarz), and |z| is kept as an upper bound through the
+// pass (it grows by at most |dy| |s| an impulse). The bound allows for the rounding of
+// ν₀_k + sᵀ z (at most ~1e-15 of its terms), so a stop passed over is one the sum would have found
+// free: the same answer to the bit.
+template <double SolverTree::LimitRow::*Lower, double SolverTree::LimitRow::*Upper, bool kPosition>
+double sweepSweptLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
   double change = 0.0;
   double* z = T.z[tree].data();
   double z_norm = T.z[tree].norm() * (1.0 + 1e-12);
@@ -102,9 +94,11 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
   const double* s = T.s.data();
   for (std::size_t j = 0; j < t.limits.size(); ++j) {
     SolverTree::LimitRow& r = t.limits[j];
-    const double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
-    const double v0 = t.nu[r.index], s_norm = T.stop_norm[tree][j];
-    const bool loaded = r.y_lower != 0.0 || r.y_upper != 0.0;
+    double lo = (r.lower - r.q) / h, hi = (r.upper - r.q) / h;
+    double v0 = t.nu[r.index];
+    if (kPosition) lo -= v0, hi -= v0, v0 = 0.0;
+    const double s_norm = T.stop_norm[tree][j];
+    const bool loaded = r.*Lower != 0.0 || r.*Upper != 0.0;
     if (!loaded) {
       const double reach = s_norm * z_norm * (1.0 + 1e-12) + 1e-14 * std::abs(v0);
       if (v0 - reach > lo && v0 + reach < hi) continue;  // free, and known to be
@@ -115,13 +109,13 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
     if (!loaded && v >= lo && v <= hi) continue;  // free
     const double a = T.stop_a[tree][j];
     if (!(a > 0.0)) continue;
-    const double yl = std::max(0.0, r.y_lower + (lo - v) / a);
-    double dy = yl - r.y_lower;
-    r.y_lower = yl;
+    const double yl = std::max(0.0, r.*Lower + (lo - v) / a);
+    double dy = yl - r.*Lower;
+    r.*Lower = yl;
     v += dy * a;
-    const double yu = std::min(0.0, r.y_upper + (hi - v) / a);
-    dy += yu - r.y_upper;
-    r.y_upper = yu;
+    const double yu = std::min(0.0, r.*Upper + (hi - v) / a);
+    dy += yu - r.*Upper;
+    r.*Upper = yu;
     if (dy == 0.0) continue;
     for (int i = run.first; i < run.first + run.size; ++i) z[coordinate[i]] += dy * s[i];
     z_norm += std::abs(dy) * s_norm * (1.0 + 1e-12);
@@ -130,9 +124,16 @@ double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, d
   return change;
 }
 
-double sweepPositionLimits(SolverTree& t, double h) {
-  return sweepLimits<&SolverTree::pnu, &SolverTree::LimitRow::p_lower,
-                     &SolverTree::LimitRow::p_upper>(t, h, &t.nu);
+}  // namespace
+
+double sweepVelocityLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  return sweepSweptLimits<&SolverTree::LimitRow::y_lower, &SolverTree::LimitRow::y_upper, false>(
+      t, tree, T, h);
+}
+
+double sweepPositionLimits(SolverTree& t, int tree, SolverWork::TreeSweeps& T, double h) {
+  return sweepSweptLimits<&SolverTree::LimitRow::p_lower, &SolverTree::LimitRow::p_upper, true>(
+      t, tree, T, h);
 }
 
 }  // namespace detail

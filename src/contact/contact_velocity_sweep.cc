@@ -47,16 +47,15 @@ __attribute__((always_inline)) inline Eigen::Vector2d frictionStep(ContactRow& c
 constexpr double kFaceFrictionRelaxation = 1.5;
 
 // The friction (and patch couples) of a block's corners, corner by corner.
-void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<SolverTree>& trees,
-                   std::vector<ContactRow>& rows, const ContactModel& model, bool patch) {
+void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<ContactRow>& rows,
+                   const ContactModel& model, bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
   for (int i = 0; i < g.size; ++i) {
     ContactRow& c = rows[g.first + i];
     const Eigen::Vector2d dt =
         frictionStep(c, relativeVelocity(work.vel, a, b, c), kFaceFrictionRelaxation);
     if (dt.x() != 0.0 || dt.y() != 0.0)
-      applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c,
-                               dt.x() * c.t1 + dt.y() * c.t2);
+      applyTo(work.vel, work.response, a, b, c, dt.x() * c.t1 + dt.y() * c.t2);
     if (patch) patchStep(model, c, work.vel[a], work.vel[b], work.response[a], work.response[b]);
   }
 }
@@ -66,7 +65,6 @@ void sweepFriction(const SolverWork::Group& g, SolverWork& work, std::vector<Sol
 // would make one negative; then each corner's friction. Kept out of the sweep's loop, which
 // inlines the single contacts' update instead (doc/decisions.md).
 __attribute__((noinline)) void sweepGroup(const SolverWork::Group& g, SolverWork& work,
-                                          std::vector<SolverTree>& trees,
                                           std::vector<ContactRow>& rows, const ContactModel& model,
                                           bool patch) {
   const int a = work.a[g.first], b = work.b[g.first];
@@ -75,9 +73,9 @@ __attribute__((noinline)) void sweepGroup(const SolverWork::Group& g, SolverWork
       ContactRow& c = rows[g.first + i];
       const double dn = c.lambda_fixed - c.lambda_n;
       c.lambda_n = c.lambda_fixed;
-      if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
+      if (dn != 0.0) applyTo(work.vel, work.response, a, b, c, dn * c.n);
     }
-    sweepFriction(g, work, trees, rows, model, patch);
+    sweepFriction(g, work, rows, model, patch);
     return;
   }
   Eigen::Vector4d r = Eigen::Vector4d::Zero();
@@ -107,9 +105,9 @@ __attribute__((noinline)) void sweepGroup(const SolverWork::Group& g, SolverWork
     const double u_n = c.n.dot(relativeVelocity(work.vel, a, b, c));
     const double dn = std::max(0.0, c.lambda_n + (c.target - u_n) * c.inv_k_nn) - c.lambda_n;
     c.lambda_n += dn;
-    if (dn != 0.0) applyTo<&SolverTree::nu>(work.vel, work.response, trees, a, b, c, dn * c.n);
+    if (dn != 0.0) applyTo(work.vel, work.response, a, b, c, dn * c.n);
   }
-  sweepFriction(g, work, trees, rows, model, patch);
+  sweepFriction(g, work, rows, model, patch);
 }
 
 // One sweep over a single contact: its normal impulse, then its friction at the velocity after
@@ -150,13 +148,14 @@ double sweepIsland(const SolverSettings& st, std::vector<SolverTree>& trees,
                    std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I,
                    bool patch, double tolerance) {
   SolverWork::TreeSweeps& T = work.tree_sweeps;
+  if (I.trees > 0) T.swept_island = &I, T.swept_rows = &rows;  // (loadTreeSweeps made the runs)
   forBodies(work, I, [&](int s) { work.vel_sweep[s] = work.vel[s]; });
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q)
     T.z_sweep[work.island_tree[q]] = T.z[work.island_tree[q]];
   for (int q = I.first_group; q < I.first_group + I.groups; ++q) {
     const SolverWork::Group& g = work.groups[work.island_group[q]];
     if (g.size > 1)
-      sweepGroup(g, work, trees, rows, st.model, patch);
+      sweepGroup(g, work, rows, st.model, patch);
     else
       sweepContact(st, work, rows, g.first, patch);
   }
