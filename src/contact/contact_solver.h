@@ -78,14 +78,10 @@ struct SolverTree {
     /// (contact_resting_tree.h).
     double y_lower_last = 0.0, y_upper_last = 0.0;
     double p_lower = 0.0, p_upper = 0.0;  ///< accumulated pseudo-impulses (position correction)
-    /// The position correction's: (M⁻¹)_kk, 0 until the column is made, and the column M⁻¹ e_k,
-    /// made when the row first acts there (the velocity sweeps use L⁻ᵀ e_k instead).
-    double a = 0.0;
-    Eigen::VectorXd column;
   };
   Eigen::VectorXd nu;                  ///< ν after the loads' kick and the impulses
   Eigen::VectorXd nu_start, nu_sweep;  ///< before the impulses; before a sweep
-  Eigen::VectorXd pnu, pnu_sweep;      ///< the position correction's pseudo-velocity
+  Eigen::VectorXd pnu;                 ///< the position correction's pseudo-velocity
   Eigen::MatrixXd M;                   ///< M(q)
   TreeFactor factor;                   ///< its factor (contact_tree_factor.h)
   /// Per coordinate its parent coordinate (−1: none; the floating base's six a chain, a joint's
@@ -106,17 +102,15 @@ struct SolverTree {
 /// One contact in the solver: its bodies' slots (−1: immovable or a tree side), lever arms,
 /// basis, the Delassus block K in the basis (n, t1, t2), its target and its accumulated
 /// impulses. A side on a tree link has ta/tb set, its Jacobian j (world point velocity = j ν)
-/// and response w = M⁻¹ jᵀ; a contact between two links of one tree keeps the difference of
-/// their Jacobians on side a alone.
+/// and the first half of its response, w = L⁻ᵀ jᵀ (M = Lᵀ L); a contact between two links of
+/// one tree keeps the difference of their Jacobians on side a alone.
 struct ContactRow {
   int a = -1, b = -1;
   int ta = -1, tb = -1;
   Eigen::Matrix<double, 3, Eigen::Dynamic> ja, jb;
-  /// The tree sides' responses M⁻¹ jᵀ once `responses` is set; before, the first half of their
-  /// solve (TreeFactor::halfSolve), which gave ka, kb: the responses are made only for rows that
-  /// a sweep applies impulses through (detail::finishTreeResponses).
+  /// The tree sides' Y = L⁻ᵀ jᵀ (TreeFactor::halfSolve), which gave ka, kb = Yᵀ Y and on
+  /// which the sweeps work (contact_solver_internals.h, SolverWork::TreeSweeps).
   Eigen::Matrix<double, Eigen::Dynamic, 3> wa, wb;
-  bool responses = false;
   /// The coordinates from whose paths to the base the tree sides' Jacobians draw (−1: none; a
   /// contact between two links of one tree has two on side a).
   int leaf_a = -1, leaf_a2 = -1, leaf_b = -1;

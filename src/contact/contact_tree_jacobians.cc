@@ -71,7 +71,6 @@ void takeTreeSides(const std::vector<SolverBody>& bodies, const std::vector<Solv
 
 void addTreeSides(const std::vector<SolverTree>& trees, ContactRow& c, Eigen::Matrix3d& Kc) {
   Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
-  c.responses = false;
   c.ka.setZero();
   c.kb.setZero();
   if (c.ta >= 0) {

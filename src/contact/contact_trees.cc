@@ -191,7 +191,6 @@ void makeLimitRows(const dynamics::ArticulatedBody& tree, const TreeData& td, So
     r.lower = c.lower;
     r.upper = c.upper;
     r.y_lower = r.y_upper = r.p_lower = r.p_upper = 0.0;
-    r.a = 0.0;  // no column yet
   }
 }
 
