@@ -162,14 +162,9 @@ double sweepPositions(const SolverSettings& st, std::vector<SolverTree>& trees,
 // pν = L⁻¹ z for island I's trees, after the sweeps.
 void finishPositionSweeps(std::vector<SolverTree>& trees, SolverWork& work,
                           const SolverWork::Island& I) {
-  SolverWork::TreeSweeps& T = work.tree_sweeps;
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
-    Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
-    columns.setZero(trees[t].nu.size(), 3);
-    columns.col(0) = T.z[t];
-    trees[t].factor.finishSolve(columns);
-    trees[t].pnu = columns.col(0);
+    trees[t].pnu = sweptChange(trees[t], work.tree_sweeps, t);
   }
 }
 

@@ -228,6 +228,10 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T);
 /// … and back: ν ← ν₀ + L⁻¹ z for island I's trees, after the sweeps.
 void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
                       const SolverWork::Island& I);
+/// L⁻¹ z of tree t (index in T), the change the sweeps made (the position correction: pν), held
+/// in T's scratch until its next use.
+Eigen::Ref<const Eigen::VectorXd> sweptChange(const SolverTree& tree, SolverWork::TreeSweeps& T,
+                                              int t);
 
 /// One pass over tree t's (index `tree`) limit rows on z, in the velocity sweeps (ν = ν₀ + L⁻¹ z)
 /// or in the position correction's (pν = L⁻¹ z, on top of ν); returns the largest change of a

@@ -107,16 +107,20 @@ void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<Cont
   }
 }
 
+Eigen::Ref<const Eigen::VectorXd> sweptChange(const SolverTree& tree, SolverWork::TreeSweeps& T,
+                                              int t) {
+  Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
+  columns.setZero(tree.nu.size(), 3);
+  columns.col(0) = T.z[t];
+  tree.factor.finishSolve(columns);  // L⁻¹ z
+  return columns.col(0);
+}
+
 void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,
                       const SolverWork::Island& I) {
-  SolverWork::TreeSweeps& T = work.tree_sweeps;
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
-    Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
-    columns.setZero(trees[t].nu.size(), 3);
-    columns.col(0) = T.z[t];
-    trees[t].factor.finishSolve(columns);  // L⁻¹ z
-    trees[t].nu += columns.col(0);
+    trees[t].nu += sweptChange(trees[t], work.tree_sweeps, t);
   }
 }
 

@@ -121,15 +121,25 @@ Problem makeProblem(std::mt19937& rng, bool sparse, bool overlaps = false) {
   return p;
 }
 
-// The swept solve (Newton's resting solve off), 30 sweeps at most as for any tree's island.
-std::vector<ContactRow> solve(Problem& p) {
+// The settings of the swept solve: Newton's resting solve off, 30 sweeps at most as for any
+// tree's island.
+SolverSettings sweptSettings() {
   SolverSettings st;
   st.resting_tree_speed = 0.0;
+  return st;
+}
+
+// The swept velocity solve of p (its working arrays left in `work`).
+std::vector<ContactRow> solve(Problem& p, SolverWork& work) {
   std::vector<ContactRow> rows;
   prepareRows(p.contacts, p.bodies, p.trees, p.slot_a, p.slot_b, rows);
-  SolverWork work;
-  solveVelocities(st, p.bodies, p.trees, rows, work);
+  solveVelocities(sweptSettings(), p.bodies, p.trees, rows, work);
   return rows;
+}
+
+std::vector<ContactRow> solve(Problem& p) {
+  SolverWork work;
+  return solve(p, work);
 }
 
 class TreeSweepsTest : public ::testing::TestWithParam<bool> {};
@@ -260,12 +270,9 @@ TEST_P(TreeSweepsTest, PositionCorrectionIsTheDenseSweeps) {
   int pushing = 0, stopped = 0;
   for (int trial = 0; trial < 10; ++trial) {
     Problem p = makeProblem(rng, GetParam(), true);
-    SolverSettings st;
-    st.resting_tree_speed = 0.0;
-    std::vector<ContactRow> rows;
-    prepareRows(p.contacts, p.bodies, p.trees, p.slot_a, p.slot_b, rows);
+    const SolverSettings st = sweptSettings();
     SolverWork work;
-    solveVelocities(st, p.bodies, p.trees, rows, work);
+    std::vector<ContactRow> rows = solve(p, work);
     SolverTree dense_tree = p.trees[0];
     std::vector<ContactRow> dense_rows = rows;
     const Eigen::VectorXd expected = densePositionSweeps(st, dense_tree, dense_rows);
