@@ -31,6 +31,7 @@ void TreeNewton::resize(int m, int s, int n) {
     z_.resize(g.rows() + static_cast<Eigen::Index>(single.size()));
     gd_.resize(z_.size());
     re_.resize(z_.size());
+    weighted_.resize(z_.size());
     active_.resize(z_.size());
     crossing_.reserve(z_.size());
     changed_.reserve(z_.size());
@@ -229,6 +230,14 @@ bool TreeNewton::factorActive(const Eigen::MatrixXd& M) {
   return factored_;
 }
 
+void TreeNewton::addRowsGradient() {
+  const int m = rows, s = n_single;
+  for (int i = 0; i < m; ++i) weighted_[i] = active_[i] ? D[i] * z_[i] : 0.0;
+  grad_.noalias() += g.topLeftCorner(m, nv).transpose() * weighted_.head(m);
+  for (int j = 0; j < s; ++j)
+    if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+}
+
 void TreeNewton::residuals(const Eigen::VectorXd& nu) {
   const int m = rows, s = n_single;
   z_.head(m).noalias() = g.topLeftCorner(m, nv) * nu;
@@ -258,11 +267,7 @@ int TreeNewton::predict(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f,
   // M (ν − ν_f) in work_), and its minimiser.
   const double before = cost(M, nu_f, nu);
   grad_ = work_;
-  const auto G = g.topLeftCorner(m, n);
-  for (int i = 0; i < m; ++i)
-    if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
-  for (int j = 0; j < s; ++j)
-    if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+  addRowsGradient();
   if (!factorActive(M)) return -1;
   delta_ = -grad_;
   solveHessian(delta_);
@@ -300,10 +305,7 @@ int TreeNewton::minimise(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, 
       if (a != active_[i]) changed_.push_back(i);
       active_[i] = a;
     }
-    for (int i = 0; i < m; ++i)
-      if (active_[i]) grad_.noalias() += (D[i] * z_[i]) * G.row(i).transpose();
-    for (int j = 0; j < s; ++j)
-      if (active_[m + j]) grad_[single[j].index] += single[j].D * z_[m + j] * single[j].sign;
+    addRowsGradient();
     // A few rows in or out: the factor updated row by row (spoilt by a downdate: made whole).
     if (!factored_ || !changed_.empty()) {
       const bool update = factored_ && static_cast<int>(changed_.size()) <= max_rank_updates;

@@ -83,6 +83,9 @@ struct TreeNewton {
   bool rankOne(int top, double sign);
   // z_ = the rows' residuals g_i ν − re_i.
   void residuals(const Eigen::VectorXd& nu);
+  // grad_ += Σ over the active rows D_i z_i g_iᵀ (the dense rows as one product Gᵀ w).
+  void addRowsGradient();
+  Eigen::VectorXd weighted_;  // w_i = D_i z_i on the active dense rows, else 0
   // The cost at ν with the targets re_ (z_ left at ν, M (ν − ν_f) in work_).
   double cost(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f, const Eigen::VectorXd& nu);
   // A start from the impulses: ν moved to the minimiser of the quadratic the rows with β_i > 0
