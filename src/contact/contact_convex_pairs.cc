@@ -27,7 +27,7 @@ constexpr unsigned long kMprIterations = 500;
 // The support first climbs from a start table: a cube of directions, kStartCells² cells on each
 // face (a cell spans at most 90°/kStartCells). Its end is taken if each neighbour is below it
 // by more than kTieShare of |d|₁ times the hull's largest coordinate (Hull::tie_margin).
-constexpr int kStartCells = 8;
+constexpr int kStartCells = 16;
 constexpr double kTieShare = 1e-10;
 
 // A shape placed in the world, in libccd's terms, and the last hull vertex its support gave,
@@ -94,20 +94,25 @@ int fclExtremeVertex(CollisionCache::Hull& h, const Eigen::Vector3d& d) {
   return best;
 }
 
-// The start table's cell of direction d: the axis and sign of its largest component pick the
-// cube's face, the other two components over it the cell (−1: d is zero or not finite).
-int startCell(const Eigen::Vector3d& d, double d_l1) {
-  if (!(d_l1 > 0) || !(d_l1 <= std::numeric_limits<double>::max())) return -1;
-  int axis = 0;
-  if (std::abs(d[1]) > std::abs(d[axis])) axis = 1;
-  if (std::abs(d[2]) > std::abs(d[axis])) axis = 2;
-  const double to_cell = 0.5 * kStartCells / std::abs(d[axis]);
-  const auto cell = [to_cell](double c) {  // c over the largest component: [−1, 1] → cells
-    const double x = c * to_cell + 0.5 * kStartCells;
-    return x >= kStartCells - 1 ? kStartCells - 1 : x > 0 ? static_cast<int>(x) : 0;
-  };
-  const int face = 2 * axis + (d[axis] < 0 ? 1 : 0);
-  return (face * kStartCells + cell(d[(axis + 1) % 3])) * kStartCells + cell(d[(axis + 2) % 3]);
+// The start table's cell of direction d, not zero and finite (d_abs: its components'
+// magnitudes): the axis and sign of its largest component pick the cube's face, the other two
+// components over it the cell.
+int startCell(const Eigen::Vector3d& d, const double (&d_abs)[3]) {
+  int face;
+  double major, u, w;
+  if (d_abs[0] >= d_abs[1] && d_abs[0] >= d_abs[2]) {
+    face = d[0] < 0 ? 1 : 0, major = d_abs[0], u = d[1], w = d[2];
+  } else if (d_abs[1] >= d_abs[2]) {
+    face = d[1] < 0 ? 3 : 2, major = d_abs[1], u = d[2], w = d[0];
+  } else {
+    face = d[2] < 0 ? 5 : 4, major = d_abs[2], u = d[0], w = d[1];
+  }
+  const double to_cell = 0.5 * kStartCells / major;
+  // u, w over the largest component lie in [−1, 1]: cells 0 … kStartCells − 1 (a rounding
+  // below 0 truncates to 0)
+  const int i = std::min(static_cast<int>(u * to_cell + 0.5 * kStartCells), kStartCells - 1);
+  const int j = std::min(static_cast<int>(w * to_cell + 0.5 * kStartCells), kStartCells - 1);
+  return (face * kStartCells + i) * kStartCells + j;
 }
 
 // The direction at the centre of the start table's cell `c` (startCell's inverse).
@@ -134,26 +139,26 @@ Eigen::Vector3d cellCentre(int c) {
 // neighbour is within the margin (ties), d is not finite or the hull has no table.
 int climbedExtremeVertex(const CollisionCache::Hull& h, const Eigen::Vector3d& d) {
   if (h.start.empty()) return -1;
-  const double d_l1 = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
-  const int cell = startCell(d, d_l1);
-  if (cell < 0) return -1;
+  const double d_abs[3] = {std::abs(d[0]), std::abs(d[1]), std::abs(d[2])};
+  const double d_l1 = d_abs[0] + d_abs[1] + d_abs[2];
+  if (!(d_l1 > 0) || !(d_l1 <= std::numeric_limits<double>::max())) return -1;
   const std::vector<Eigen::Vector3d>& v = *h.vertices;
-  int best = h.start[cell];
+  int best = h.start[startCell(d, d_abs)];
   double best_value = d.dot(v[best]);
   for (;;) {
-    const int first = h.neighbours[best];
-    const int count = h.neighbours[first];
-    int next = best;
+    const int first = h.neighbours[best] + 1;
+    const int end = first + h.neighbours[first - 1];
+    int next = first;
     double next_value = -std::numeric_limits<double>::infinity();
-    for (int k = first + 1; k <= first + count; ++k) {
-      const double value = d.dot(v[h.neighbours[k]]);
+    for (int k = first; k < end; ++k) {
+      const double value = d.dot(h.neighbour_vertices[k]);
       if (value > next_value) {
-        next = h.neighbours[k];
+        next = k;
         next_value = value;
       }
     }
     if (next_value > best_value) {
-      best = next;
+      best = h.neighbours[next];
       best_value = next_value;
       continue;
     }
@@ -295,6 +300,10 @@ std::shared_ptr<CollisionCache::Hull> makeHull(
   for (const Eigen::Vector3d& v : *vertices) sum += v;
   h->interior = sum * (1.0 / n);
   h->mark.assign(n, 0u);
+  h->neighbour_vertices.resize(h->neighbours.size(), Eigen::Vector3d::Zero());
+  for (int v = 0; v < n; ++v)
+    for (int k = h->neighbours[v] + 1; k <= h->neighbours[v] + h->neighbours[h->neighbours[v]]; ++k)
+      h->neighbour_vertices[k] = (*vertices)[h->neighbours[k]];
   h->vertices = std::move(vertices);
   if (convex && n > 0) makeStartTable(*h, faces, face_count);
   return h;

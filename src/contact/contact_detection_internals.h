@@ -39,6 +39,9 @@ class CollisionCache {
     /// Per vertex v: at neighbours[v] the count of its neighbours along the faces' edges, then
     /// those neighbours in ascending order (FCL's encoding of a Convex's vertex graph).
     std::vector<int> neighbours;
+    /// At each neighbour's place in `neighbours`, that neighbour's vertex (the climb reads a
+    /// vertex's neighbours in a row).
+    std::vector<Eigen::Vector3d> neighbour_vertices;
     Eigen::Vector3d interior = Eigen::Vector3d::Zero();  ///< the vertices' mean (MPR's start)
     /// Scratch of the support walk: a vertex is visited in this query if its mark equals
     /// `generation` (one increment per query instead of clearing the marks).
