@@ -49,7 +49,8 @@ void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
   auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(hull.vertices);
   std::vector<int> faces;  // FCL's encoding: per face its vertex count, then its vertices
   int face_count = static_cast<int>(hull.triangles.size());
-  if (face_count > 0) {
+  const bool convex = face_count > 0;
+  if (convex) {
     for (const auto& t : hull.triangles) faces.insert(faces.end(), {3, t[0], t[1], t[2]});
   } else {
     *vertices = distinctVertices(s.mesh);
@@ -70,7 +71,7 @@ void makeMeshShape(const Shape& s, CollisionCache::Shape& out) {
   for (const auto& v : *vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   out.centre_S = vertices->empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (lo + hi));
   for (const auto& v : *vertices) out.bound = std::max(out.bound, (v - out.centre_S).norm());
-  out.hull = makeHull(vertices, faces, face_count);
+  out.hull = makeHull(vertices, faces, face_count, convex);
 }
 
 CollisionCache::Shape makeShape(const Shape& s, int body, int index) {

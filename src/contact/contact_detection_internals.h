@@ -39,11 +39,23 @@ class CollisionCache {
     /// Per vertex v: at neighbours[v] the count of its neighbours along the faces' edges, then
     /// those neighbours in ascending order (FCL's encoding of a Convex's vertex graph).
     std::vector<int> neighbours;
+    /// At each neighbour's place in `neighbours`, that neighbour's vertex (the climb reads a
+    /// vertex's neighbours in a row).
+    std::vector<Eigen::Vector3d> neighbour_vertices;
     Eigen::Vector3d interior = Eigen::Vector3d::Zero();  ///< the vertices' mean (MPR's start)
     /// Scratch of the support walk: a vertex is visited in this query if its mark equals
     /// `generation` (one increment per query instead of clearing the marks).
     std::vector<std::uint32_t> mark;
     std::uint32_t generation = 0;
+    /// Where the support's climb starts (contact_convex_pairs.cc): per cell of a cube map of
+    /// directions (kStartCells² on each of the cube's six faces), the vertex farthest along the
+    /// cell's centre. Empty where the faces are not a convex hull's (a flat mesh's own
+    /// triangles): there only FCL's walk from vertex 0 gives FCL's vertex.
+    std::vector<int> start;
+    /// A climb's end is taken only if each of its neighbours is below it by more than this
+    /// times |d|₁ (the dot products' rounding, the hull's own departures from convexity, with
+    /// room to spare); otherwise FCL's walk from vertex 0 decides.
+    double tie_margin = 0;
   };
   struct Shape {
     int body = -1;
@@ -123,10 +135,18 @@ void planeContacts(const Model& model, const Data& data, CollisionCache& cache, 
                    const std::vector<char>* asleep = nullptr);
 
 /// The hull of `vertices` whose faces are given in FCL's encoding (per face its vertex count,
-/// then its vertices), with its vertex graph and interior point (contact_convex_pairs.cc).
+/// then its vertices), with its vertex graph and interior point (contact_convex_pairs.cc);
+/// `convex`: the faces are the vertices' convex hull (Qhull's), so that the support may climb
+/// from a start table (Hull::start).
 std::shared_ptr<CollisionCache::Hull> makeHull(
     std::shared_ptr<const std::vector<Eigen::Vector3d>> vertices, const std::vector<int>& faces,
-    int face_count);
+    int face_count, bool convex);
+
+/// The vertex of hull h farthest along d (the hull's frame) as FCL's Convex::findExtremeVertex
+/// picks it, as the narrow phase's support finds it; `climbed`: found by the climb from the
+/// start table (else by FCL's walk from vertex 0, or search) (contact_convex_pairs.cc).
+const Eigen::Vector3d& hullExtremeVertex(CollisionCache::Hull& h, const Eigen::Vector3d& d,
+                                         bool& climbed);
 
 /// Two shapes placed at M_WA and M_WB, at least one a hull: whether they overlap and, if so,
 /// the deepest point, the normal from a to b and the depth of their overlap, as FCL's narrow
