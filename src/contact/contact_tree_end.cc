@@ -38,35 +38,51 @@ void deepestContactOf(const Model& model, const Data& data, int t, TreeFaults& f
     }
 }
 
-// A floating tree at the pose of `s` (kin: its poses; mass_known: scratch.split_M holds M(q)
-// there already): the base bivelocity that gives it the world
-// momentum Pi with the joint rates of s, and its kinetic energy split into the part it would
-// have with its joints locked and the joints' motion relative to the base: with
-// M = [[B, C], [Cᵀ, D]] over (base, joints) and π the momentum in the base's frame,
-// Ω_0 = B⁻¹ (π − C q̇), T = ½ πᵀ B⁻¹ π + ½ q̇ᵀ (D − Cᵀ B⁻¹ C) q̇.
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// `E` plus the tree's potential energy in gravity at the poses of `kin`, added body by body as
+// treeEnergy adds it: with E its kinetic energy, treeEnergy to the bit; with 0, the potential
+// alone, which needs no velocities.
+double plusPotential(const Model& model, int t, const dynamics::TreeKinematics& kin, double E) {
+  const dynamics::ArticulatedBody& tree = model.trees[t].body;
+  for (int b = tree.floating() ? 0 : 1; b < tree.bodyCount(); ++b)
+    E -= tree.inertiaOf(b).mass() * model.scene.gravity_W.dot(kin.M_W[b].translation(model.lambda));
+  return E;
+}
+
+// The world momentum Pi of a floating tree in its base's frame at the base pose of `s`, as the
+// coefficients of M(q)'s first six rows.
+Vector6 momentumInBase(const dynamics::TreeState& s, const cga::Moment& Pi, double lambda) {
+  const cga::Moment base = s.M_W0.reverse().apply(Pi, lambda);
+  Vector6 pi;
+  pi << base.rot, base.trans;
+  return pi;
+}
+
+// A floating tree at a pose where M(q) = [[B, C], [Cᵀ, D]] over (base, joints), with momentum
+// π in its base's frame and joint rates q̇: the base bivelocity that gives it that momentum
+// with those rates, Ω_0 = B⁻¹ π − B⁻¹ C q̇, and (with `energies`) its kinetic energy split
+// into the part it would have with its joints locked and the joints' motion relative to the
+// base, T = ½ πᵀ B⁻¹ π + ½ q̇ᵀ (D − Cᵀ B⁻¹ C) q̇. Keeps B⁻¹ π and B⁻¹ C q̇: at the same pose
+// and momentum with the rates scaled by s, Ω_0 = B⁻¹ π − s B⁻¹ C q̇. `Dv`: work array.
 struct MomentumSplit {
-  Eigen::Matrix<double, 6, 1> omega_0;
+  Vector6 B_pi, B_Cv, omega_0;
   double T_locked = 0.0, T_internal = 0.0;
 };
-MomentumSplit splitMomentum(const dynamics::ArticulatedBody& tree,
-                            const dynamics::TreeKinematics& kin, const dynamics::TreeState& s,
-                            const cga::Moment& Pi, double lambda, TreeStageScratch& scratch,
-                            bool mass_known = false) {
-  Eigen::MatrixXd& M = scratch.split_M;
-  Eigen::VectorXd& Dv = scratch.split_Dv;
-  const int n = tree.jointCount();
-  if (!mass_known) dynamics::massMatrix(tree, kin, M, scratch.algorithms);
-  Dv.noalias() = M.bottomRightCorner(n, n) * s.v;
-  const cga::Moment base = s.M_W0.reverse().apply(Pi, lambda);
-  Eigen::Matrix<double, 6, 1> pi;
-  pi << base.rot, base.trans;
+MomentumSplit splitMomentum(const Eigen::MatrixXd& M, const Vector6& pi, const Eigen::VectorXd& v,
+                            Eigen::VectorXd& Dv, bool energies) {
+  const int n = static_cast<int>(v.size());
   const Eigen::LLT<Eigen::Matrix<double, 6, 6>> B(M.topLeftCorner<6, 6>());
-  const Eigen::Matrix<double, 6, 1> Cv = M.topRightCorner(6, n) * s.v;
-  const Eigen::Matrix<double, 6, 1> B_pi = B.solve(pi), B_Cv = B.solve(Cv);
+  const Vector6 Cv = M.topRightCorner(6, n) * v;
   MomentumSplit out;
-  out.omega_0 = B_pi - B_Cv;
-  out.T_locked = 0.5 * pi.dot(B_pi);
-  out.T_internal = 0.5 * (s.v.dot(Dv) - Cv.dot(B_Cv));
+  out.B_pi = B.solve(pi);
+  out.B_Cv = B.solve(Cv);
+  out.omega_0 = out.B_pi - out.B_Cv;
+  if (energies) {
+    Dv.noalias() = M.bottomRightCorner(n, n) * v;
+    out.T_locked = 0.5 * pi.dot(out.B_pi);
+    out.T_internal = 0.5 * (v.dot(Dv) - Cv.dot(out.B_Cv));
+  }
   return out;
 }
 
@@ -92,7 +108,7 @@ void correctTree(const Model& model, Data& data, int t) {
     drifted = &kin;
   }
   const double T = dynamics::kineticEnergy(tree, *drifted);
-  const double E0 = treeEnergy(model, t, *drifted);
+  const double E0 = plusPotential(model, t, *drifted, T);  // treeEnergy's, to the bit
   const cga::Moment Pi = dynamics::worldMomentum(tree, *drifted);
   const auto moveBy = [&](double f, dynamics::TreeState& s) {
     s = td.state;
@@ -108,45 +124,67 @@ void correctTree(const Model& model, Data& data, int t) {
     if (tree.hasMimic()) dynamics::applyMimicPositions(tree, s.q);  // followers on leaders
   };
   moveBy(1.0, moved);
-  dynamics::treeKinematics(tree, moved, kin);
+  // The tree moved by f h pν: with f = 1 the moved state itself (a copy: the same bits).
+  const auto moveTreeBy = [&](double f) {
+    if (f == 1.0)
+      td.state = moved;  // (copies into storage of the same size: no allocation)
+    else
+      moveBy(f, td.state);
+  };
   if (!tree.floating()) {
+    dynamics::treeKinematics(tree, moved, kin);
     const double dU = treeEnergy(model, t, kin) - E0;
     double f = 1.0, scale = 1.0;
     if (dU > 0) {
       f = std::min(1.0, 0.5 * T / dU);
       if (T > 0) scale = std::sqrt(std::max(0.0, 1.0 - f * dU / T));
     }
-    moveBy(f, td.state);
+    moveTreeBy(f);
     td.state.v *= scale;
-    if (f == 1.0)  // the moved pose itself, to the bit (the same operations)
+    if (f == 1.0)  // the moved pose itself, to the bit
       dynamics::treeVelocities(tree, td.state, kin);
     else
       dynamics::treeKinematics(tree, td.state, kin);
   } else {
-    const MomentumSplit full = splitMomentum(tree, kin, moved, Pi, lambda, data.tree_scratch);
-    const double U_moved = treeEnergy(model, t, kin) - dynamics::kineticEnergy(tree, kin);
+    // The split and the potential read the moved pose's poses and M(q) alone, not its
+    // velocities. M(q) is computed here only because the next step's kick factors it at the
+    // tree's end pose (finishTreeContactStep keeps it), which is this pose when f = 1.
+    Eigen::MatrixXd& M = data.tree_scratch.split_M;
+    Eigen::VectorXd& Dv = data.tree_scratch.split_Dv;
+    dynamics::treePoses(tree, moved, kin);
+    dynamics::massMatrix(tree, kin, M, data.tree_scratch.algorithms);
+    const MomentumSplit full =
+        splitMomentum(M, momentumInBase(moved, Pi, lambda), moved.v, Dv, true);
+    const double U_moved = plusPotential(model, t, kin, 0.0);
     const double dU = U_moved + full.T_locked + full.T_internal - E0;
     double f = 1.0, s = 1.0;
     if (dU > 0) {
       f = full.T_internal > 0 ? std::min(1.0, 0.5 * full.T_internal / dU) : 0.0;
       if (full.T_internal > 0) s = std::sqrt(std::max(0.0, 1.0 - f * dU / full.T_internal));
     }
-    moveBy(f, td.state);
+    moveTreeBy(f);
     td.state.v *= s;
-    // With f = 1 the pose is the moved one to the bit (the same operations): its poses and M
-    // are at hand.
-    if (f != 1.0) dynamics::treePoses(tree, td.state, kin);
-    const MomentumSplit end =
-        splitMomentum(tree, kin, td.state, Pi, lambda, data.tree_scratch, f == 1.0);
-    td.state.omega_0 = cga::Bivelocity(end.omega_0.head<3>(), end.omega_0.tail<3>());
+    Vector6 omega_0;
+    if (f == 1.0) {
+      // The moved pose to the bit: B, π and C q̇ are the split's, and the rates scaled by s
+      // scale C q̇ (s = 1: the split's Ω_0 to the bit).
+      omega_0 = full.B_pi - s * full.B_Cv;
+    } else {
+      dynamics::treePoses(tree, td.state, kin);
+      dynamics::massMatrix(tree, kin, M, data.tree_scratch.algorithms);
+      omega_0 =
+          splitMomentum(M, momentumInBase(td.state, Pi, lambda), td.state.v, Dv, false).omega_0;
+    }
+    td.state.omega_0 = cga::Bivelocity(omega_0.head<3>(), omega_0.tail<3>());
     dynamics::treeVelocities(tree, td.state, kin);
   }
 }
 
 // The correction (correctTree), then the step's energy booked: what the tree had plus the
 // inputs' work (trapezoidal) minus what it has now. Returns what was booked, J (negative: the
-// step created energy); leaves the kinematics of the tree's end state in end_kin.
-double correctAndBook(const Model& model, Data& data, int t) {
+// step created energy); leaves the kinematics of the tree's end state in end_kin and its kinetic
+// energy in T_end.
+double correctAndBook(const Model& model, Data& data, int t, double& T_end) {
   TreeData& td = data.trees[t];
   const dynamics::ArticulatedBody& tree = model.trees[t].body;
   const double h = model.config.dt;
@@ -167,7 +205,9 @@ double correctAndBook(const Model& model, Data& data, int t) {
   // ν + h M⁻¹τ), would book a phantom input and its dissipation in every step a gripper holds).
   td.contact_book_work =
       0.5 * h * (td.contact_power_start + treeInputPower(model, data, t, kin, td.state.v));
-  const double booked = td.contact_energy_start + td.contact_book_work - treeEnergy(model, t, kin);
+  T_end = dynamics::kineticEnergy(tree, kin);
+  const double E_end = plusPotential(model, t, kin, T_end);  // treeEnergy's, to the bit
+  const double booked = td.contact_energy_start + td.contact_book_work - E_end;
   td.contact_kicked = false;
   td.integrator->reset();
   return booked;
@@ -184,12 +224,11 @@ void contactFault(const Model& model, Data& data, int t, TreeFaults::Rule rule, 
 
 // The checks of a contact step (doc/articulated.md#faults): the energy may not rise beyond the
 // inputs' work, a floating tree's momentum must be the expected one. Records the fault and
-// returns true when one is broken.
-bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
+// returns true when one is broken. T: the kinetic energy at the end (correctAndBook's).
+bool contactStepBroken(const Model& model, Data& data, int t, double booked, double T) {
   const TreeModel& tm = model.trees[t];
   const TreeData& td = data.trees[t];
   const dynamics::TreeKinematics& kin = data.tree_scratch.end_kin;  // correctAndBook's
-  const double T = dynamics::kineticEnergy(tm.body, kin);
   const double energy_bound = kEnergySlackFactor * td.contact_energy_slack +
                               kEnergyTolerance * (T + std::abs(td.contact_energy_start)) + 1e-12;
   // What the contacts did to the energy the kick left (the kick's work is what it added, and
@@ -230,10 +269,11 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked) {
 bool finishTreeContactStep(const Model& model, Data& data, int t) {
   TreeData& td = data.trees[t];
   td.contact_end.valid = false;
-  // A floating tree's correction leaves M(q) at its end pose in split_M (splitMomentum).
+  // A floating tree's correction leaves M(q) at its end pose in split_M (correctTree).
   const bool mass = !td.contact_shift.isZero(0.0) && model.trees[t].body.floating();
-  const double booked = correctAndBook(model, data, t);
-  if (contactStepBroken(model, data, t, booked)) return false;
+  double T_end = 0.0;
+  const double booked = correctAndBook(model, data, t, T_end);
+  if (contactStepBroken(model, data, t, booked, T_end)) return false;
   data.dissipated_energy += booked;
   // What the next contact step's kick would make again if it starts from this state.
   TreeData::ContactEnd& e = td.contact_end;  // (copies into storage of the same size)
