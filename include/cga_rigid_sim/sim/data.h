@@ -180,8 +180,8 @@ struct TreeStageScratch {
   /// position correction
   dynamics::TreeKinematics end_kin;
   dynamics::TreeState moved;
-  Eigen::MatrixXd split_M;   ///< splitMomentum: the mass matrix
-  Eigen::VectorXd split_Dv;  ///< splitMomentum: D q̇
+  Eigen::MatrixXd split_M;   ///< correctTree: the mass matrix at the corrected pose
+  Eigen::VectorXd split_Dv;  ///< correctTree: D q̇
   /// limitedStepBook: the kinematics of the state before the step and after it
   dynamics::TreeKinematics book_kin;
   dynamics::TreeState before;
