@@ -113,9 +113,10 @@ struct SolverWork {
     std::vector<std::vector<double>> stop_a, stop_norm;
     /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
     std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
-    /// The island and rows whose runs these are once its velocity sweeps have run (set by
-    /// sweepIsland, cleared by loadSweptLimits and taken by the solvePositions that follows on
-    /// the same rows and islands, which then uses the runs as they are).
+    /// The island and rows whose runs these are once its velocity sweeps have run (cleared at
+    /// the start of solveVelocities and by loadSweptLimits, set by sweepIsland, taken by the
+    /// solvePositions that follows on the same rows and islands, which then uses the runs as
+    /// they are).
     const Island* swept_island = nullptr;
     const void* swept_rows = nullptr;
   };

@@ -263,6 +263,7 @@ SolveStats solveVelocities(const SolverSettings& st, std::vector<SolverBody>& bo
                            std::vector<SolverTree>& trees, std::vector<ContactRow>& rows,
                            SolverWork& work) {
   SolveStats stats;
+  work.tree_sweeps.swept_island = nullptr;  // no runs of this solve's islands yet
   detail::loadWork(bodies, rows, work);
   detail::makeGroups(rows, work);
   detail::makeIslands(rows, static_cast<int>(trees.size()), work);
