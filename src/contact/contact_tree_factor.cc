@@ -2,8 +2,6 @@
 // (contact_tree_factor.h).
 #include "contact/contact_tree_factor.h"
 
-#include <cmath>
-
 namespace cga_rigid_sim {
 namespace sim {
 
@@ -14,42 +12,14 @@ bool TreeFactor::compute(const Eigen::MatrixXd& M, const std::vector<int>& paren
     ok_ = dense_.info() == Eigen::Success && dense_.matrixLLT().allFinite();
     return ok_;
   }
-  parent_ = parent;
-  const int n = static_cast<int>(M.rows());
-  L_ = M;
-  inv_diag_.resize(n);
-  ok_ = false;
-  // From the leaves in: coordinate k's row of L, then its outer product taken off its
-  // ancestors' block (only ancestor pairs: that is all the fill-in there is).
-  for (int k = n - 1; k >= 0; --k) {
-    const double d = L_(k, k);
-    if (!(d > 0.0 && std::isfinite(d))) return false;
-    const double l = std::sqrt(d), inv = 1.0 / l;
-    L_(k, k) = l;
-    inv_diag_[k] = inv;
-    for (int i = parent_[k]; i >= 0; i = parent_[i]) L_(k, i) *= inv;
-    for (int i = parent_[k]; i >= 0; i = parent_[i]) {
-      const double a = L_(k, i);
-      for (int j = i; j >= 0; j = parent_[j]) L_(i, j) -= a * L_(k, j);
-    }
-  }
-  ok_ = true;
-  return true;
+  ltl_.setParents(parent);  // (the paths are rebuilt only for other parents than the last)
+  ok_ = ltl_.compute(M, true);
+  return ok_;
 }
 
 void TreeFactor::solveInPlace(Eigen::VectorXd& x) const {
   if (!sparse_) return dense_.solveInPlace(x);
-  const int n = static_cast<int>(x.size());
-  for (int i = n - 1; i >= 0; --i) {  // Lᵀ y = x, from the leaves in
-    const double y = x[i] * inv_diag_[i];
-    x[i] = y;
-    for (int j = parent_[i]; j >= 0; j = parent_[j]) x[j] -= L_(i, j) * y;
-  }
-  for (int i = 0; i < n; ++i) {  // L z = y, from the root out
-    double z = x[i];
-    for (int j = parent_[i]; j >= 0; j = parent_[j]) z -= L_(i, j) * x[j];
-    x[i] = z * inv_diag_[i];
-  }
+  ltl_.solveInPlace(x.data());
 }
 
 void TreeFactor::solveInPlace(Columns& x) const {
@@ -65,28 +35,17 @@ void TreeFactor::halfSolve(Columns& Y, int leaf_a, int leaf_b) const {
   }
   // Lᵀ y = Y over the union of the two paths, from the leaves in (decreasing index: a parent's
   // index is smaller than its child's), each coordinate once; the others stay zero.
+  const std::vector<int>& parent = ltl_.parents();
   int a = leaf_a, b = leaf_b;
   while (a >= 0 || b >= 0) {
     const int i = a > b ? a : b;
     eliminate(Y, i);
-    if (a == i) a = parent_[a];
-    if (b == i) b = parent_[b];
+    if (a == i) a = parent[a];
+    if (b == i) b = parent[b];
   }
 }
 
-void TreeFactor::eliminate(Columns& Y, int i) const {
-  const double s = inv_diag_[i];
-  const double y0 = Y(i, 0) * s, y1 = Y(i, 1) * s, y2 = Y(i, 2) * s;
-  Y(i, 0) = y0;
-  Y(i, 1) = y1;
-  Y(i, 2) = y2;
-  for (int j = parent_[i]; j >= 0; j = parent_[j]) {
-    const double l = L_(i, j);
-    Y(j, 0) -= l * y0;
-    Y(j, 1) -= l * y1;
-    Y(j, 2) -= l * y2;
-  }
-}
+void TreeFactor::eliminate(Columns& Y, int i) const { ltl_.eliminate<3>(Y.data(), Y.rows(), i); }
 
 void TreeFactor::finishSolve(Columns& Y) const {
   if (!sparse_) {
@@ -94,19 +53,7 @@ void TreeFactor::finishSolve(Columns& Y) const {
     return;
   }
   const int n = static_cast<int>(Y.rows());
-  for (int i = 0; i < n; ++i) {
-    double z0 = Y(i, 0), z1 = Y(i, 1), z2 = Y(i, 2);
-    for (int j = parent_[i]; j >= 0; j = parent_[j]) {
-      const double l = L_(i, j);
-      z0 -= l * Y(j, 0);
-      z1 -= l * Y(j, 1);
-      z2 -= l * Y(j, 2);
-    }
-    const double s = inv_diag_[i];
-    Y(i, 0) = z0 * s;
-    Y(i, 1) = z1 * s;
-    Y(i, 2) = z2 * s;
-  }
+  for (int i = 0; i < n; ++i) ltl_.finish<3>(Y.data(), Y.rows(), i);
 }
 
 }  // namespace sim

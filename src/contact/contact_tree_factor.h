@@ -4,7 +4,8 @@
 //
 // M(q) from the composite-rigid-body algorithm is zero except where one coordinate is an
 // ancestor of the other (or the same): the branches of a tree do not couple. Featherstone's LTL
-// factorisation M = Lᵀ L (Rigid Body Dynamics Algorithms, 2008, §6.5) keeps that sparsity: L_ij
+// factorisation M = Lᵀ L (math::LtlFactor; Rigid Body Dynamics Algorithms, 2008, §6.5) keeps that
+// sparsity: L_ij
 // is nonzero only for j = i or j an ancestor of i, so factoring costs Σ_i d_i² and a solve
 // 2 Σ_i d_i (d_i: the number of ancestors of coordinate i) instead of n³/6 and n². And L⁻ᵀ
 // leaves a vector on the coordinates between one link and the base on those coordinates: with
@@ -21,6 +22,8 @@
 
 #include <Eigen/Dense>
 #include <vector>
+
+#include "cga_rigid_sim/math/ltl_factor.h"
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -51,9 +54,7 @@ class TreeFactor {
   // Coordinate i's step of Lᵀ y = Y (its descendants' done): y_i, taken off its ancestors.
   void eliminate(Columns& Y, int i) const;
 
-  std::vector<int> parent_;
-  Eigen::MatrixXd L_;         // sparse: L in the lower triangle (L_(i, j), j an ancestor of i)
-  Eigen::VectorXd inv_diag_;  // sparse: 1 / L_ii
+  math::LtlFactor ltl_;  // sparse (math/ltl_factor.h)
   Eigen::LLT<Eigen::MatrixXd> dense_;
   bool sparse_ = false, ok_ = false;
 };

@@ -3,12 +3,11 @@
 // rows (joint_rows.h). Internal to the tree layer.
 //
 // M(q) from the composite-rigid-body algorithm is zero except where one coordinate is an
-// ancestor of the other (or the same). Featherstone's LTL factorisation M = Lᵀ L (Rigid Body
-// Dynamics Algorithms, 2008, §6.5), eliminating leaves first, keeps that sparsity: L_ij is
-// nonzero only for j = i or j an ancestor of i, so factoring costs Σ_i d_i² and a solve
-// 2 Σ_i d_i (d_i: the ancestors of coordinate i) instead of n³/6 and n² (a floating base's six
-// coordinates are a chain, so its dense 6 × 6 block is factored as one). The contact solve's
-// TreeFactor (contact_tree_factor.h) is the same factorisation for its own products. Without
+// ancestor of the other (or the same). Featherstone's LTL factorisation M = Lᵀ L
+// (math::LtlFactor) keeps that sparsity: factoring costs Σ_i d_i² and a solve 2 Σ_i d_i (d_i:
+// the ancestors of coordinate i) instead of n³/6 and n² (a floating base's six coordinates are
+// a chain, so its dense 6 × 6 block is factored as one). The contact solve's TreeFactor
+// (contact_tree_factor.h) is the same factorisation for its own products. Without
 // parents (mimic joints: the reduced matrix couples a leader's branch with its follower's) the
 // matrix is factored densely (math::Cholesky).
 #pragma once
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/math/cholesky.h"
+#include "cga_rigid_sim/math/ltl_factor.h"
 #include "cga_rigid_sim/tree/articulated_body.h"
 
 namespace cga_rigid_sim {
@@ -28,56 +28,24 @@ class TreeCholesky {
  public:
   /// Per coordinate its parent coordinate (smaller than its own index) or −1; empty: dense.
   /// The matrices factored must be zero off the pairs of a coordinate and its ancestors.
-  void setParents(const std::vector<int>& parent) { parent_ = parent; }
-  bool sparse() const { return !parent_.empty(); }
+  void setParents(const std::vector<int>& parent) { ltl_.setParents(parent); }
+  bool sparse() const { return ltl_.size() > 0; }
 
   /// Factors A (its lower triangle is read). Not positive definite in double precision: the
   /// factor, and every solve with it, holds NaN (the callers' finiteness checks catch it).
   void compute(const Eigen::MatrixXd& A) {
-    if (!sparse() || static_cast<int>(parent_.size()) != A.rows()) return dense_.compute(A);
-    const int n = static_cast<int>(A.rows());
-    L_ = A;  // (copies into storage of the same size: no allocation once sized)
-    inv_diag_.resize(n);
-    const int* lambda = parent_.data();
-    double* L = L_.data();
-    const auto at = [L, n](int r, int c) -> double& { return L[r + static_cast<long>(c) * n]; };
-    for (int k = n - 1; k >= 0; --k) {
-      const double d = std::sqrt(at(k, k));
-      at(k, k) = d;
-      const double inv = 1.0 / d;
-      inv_diag_[k] = inv;
-      for (int i = lambda[k]; i >= 0; i = lambda[i]) at(k, i) *= inv;
-      for (int i = lambda[k]; i >= 0; i = lambda[i]) {
-        const double lki = at(k, i);
-        for (int j = i; j >= 0; j = lambda[j]) at(i, j) -= lki * at(k, j);
-      }
-    }
+    if (!sparse() || ltl_.size() != A.rows()) return dense_.compute(A);
+    ltl_.compute(A, false);
   }
 
-  /// x ← A⁻¹ x: Lᵀ y = x (leaves first), then L z = y (root first), along the ancestors.
+  /// x ← A⁻¹ x.
   void solveInPlace(Eigen::VectorXd& x) const {
-    if (!sparse() || static_cast<Eigen::Index>(parent_.size()) != x.size())
-      return dense_.solveInPlace(x);
-    const int n = static_cast<int>(x.size());
-    const int* lambda = parent_.data();
-    const double* L = L_.data();
-    const double* inv = inv_diag_.data();
-    double* v = x.data();
-    for (int k = n - 1; k >= 0; --k) {
-      const double y = v[k] *= inv[k];
-      for (int i = lambda[k]; i >= 0; i = lambda[i]) v[i] -= L[k + static_cast<long>(i) * n] * y;
-    }
-    for (int k = 0; k < n; ++k) {
-      double s = v[k];
-      for (int i = lambda[k]; i >= 0; i = lambda[i]) s -= L[k + static_cast<long>(i) * n] * v[i];
-      v[k] = s * inv[k];
-    }
+    if (!sparse() || ltl_.size() != x.size()) return dense_.solveInPlace(x);
+    ltl_.solveInPlace(x.data());
   }
 
  private:
-  std::vector<int> parent_;
-  Eigen::MatrixXd L_;  // L in the lower triangle (L(i, j), j an ancestor of i)
-  Eigen::VectorXd inv_diag_;
+  math::LtlFactor ltl_;  // sparse (math/ltl_factor.h)
   math::Cholesky dense_;
 };
 
