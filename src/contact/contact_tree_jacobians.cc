@@ -36,12 +36,24 @@ int leafOf(const SolverTree& T, int b) {
 }
 
 // Y = the first half of M⁻¹ jᵀ for the side's Jacobian j on tree T, whose nonzeros are on the
-// paths from the leaves to the base; returns j M⁻¹ jᵀ = Yᵀ Y.
+// paths from the leaves to the base; returns j M⁻¹ jᵀ = Yᵀ Y. On the tree's sparsity Y is zero
+// off those paths, so the product sums their rows alone, walked as halfSolve walks them (a
+// general matrix product of 3 × n by n × 3 would cost several times the rows' sums).
 Eigen::Matrix3d halfResponse(const SolverTree& T, const Eigen::Matrix<double, 3, Eigen::Dynamic>& j,
                              int leaf, int leaf2, Eigen::Matrix<double, Eigen::Dynamic, 3>& Y) {
   Y = j.transpose();
   T.factor.halfSolve(Y, leaf, leaf2);
-  return Y.transpose() * Y;
+  if (!T.factor.sparse()) return Y.transpose() * Y;
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  const std::vector<int>& parent = T.coordinate_parent;
+  for (int a = leaf, b = leaf2; a >= 0 || b >= 0;) {
+    const int i = a > b ? a : b;
+    const Eigen::Vector3d y = Y.row(i).transpose();
+    K.noalias() += y * y.transpose();
+    if (a == i) a = parent[a];
+    if (b == i) b = parent[b];
+  }
+  return K;
 }
 
 }  // namespace
