@@ -211,6 +211,14 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   } else {
     reduceVelocity(tree, velocityVector(tree, state), nu_bar_);
   }
+  // A contact step's drift starts from the state its kick and impulses left (startFrom), whose
+  // ν̄ − ν changes little from one contact step to the next: the last drift's, added to ν, is
+  // the closer start (the iteration converges to the same root from either).
+  const bool drift_warm = hinted && !extrapolated && drift_offset_valid_ && h == drift_h_ &&
+                          drift_offset_.size() == nv;
+  if (hinted) drift_start_ = nu_bar_;
+  if (drift_warm) nu_bar_ += drift_offset_;
+  drift_offset_valid_ = false;  // until this step converges from its hint
   // M's own factor at the start serves as the iteration's matrix only without damping and
   // servos; else the iteration factors M + ½hC (iterationMatrix) and M's is not needed.
   const bool iterate_on_M = !damped(tree) && !loads.servos.active();
@@ -387,6 +395,11 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
     const double T_stopped = 0.5 * nu_end_.dot(Mnu_);
     taken += T_ - T_stopped;
     T_ = T_stopped;
+  }
+  if (hinted) {  // the next contact step's drift starts from this one's ν̄ − ν
+    drift_offset_ = nu_bar_ - drift_start_;
+    drift_h_ = h;
+    drift_offset_valid_ = true;
   }
   if (!extrapolated) history_filled_ = 0;  // this step starts a run of equal steps
   predictNext(nv);

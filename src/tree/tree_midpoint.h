@@ -142,6 +142,11 @@ class Midpoint final : public TreeIntegrator {
   // startFrom(): kin_ (and with hint_mass_ M_) belong to hint_state_, until a substep starts
   TreeState hint_state_;
   bool start_hint_ = false, hint_mass_ = false;
+  // A contact step's drift (a step from a hint): its ν at the start, and ν̄ − ν of the last
+  // such step of h that converged (kept through reset(): a starting guess only).
+  Eigen::VectorXd drift_start_, drift_offset_;
+  double drift_h_ = 0.0;
+  bool drift_offset_valid_ = false;
   static constexpr int kMaxDegree = 7;
   static constexpr int kDifferences = kMaxDegree + 2;  // ∇^{d+1} to judge degree d
   // ∇^j ν̄ at the last step, j < history_filled_ (coordinate-major: kDifferences per coordinate)

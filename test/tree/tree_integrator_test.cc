@@ -185,6 +185,53 @@ TEST(TreeIntegrator, EveryStepIsTheConvergedMidpointStepWhateverTheIterationsSta
   }
 }
 
+// A contact step's drift starts from the state its kick left, handed over with its kinematics
+// and M (startFrom), and from the last drift's ν̄ − ν added to ν. Whatever it starts from, the
+// drift must be the converged midpoint step: the same step by a fresh integrator, which starts
+// from ν itself, agrees to round-off (the tolerances of the test above). A floating random tree
+// of 7 joints drifting without gravity, its rates changed before every step as contact impulses
+// change them; and the warm start must save passes over the run.
+TEST(TreeIntegrator, ContactDriftsFromTheLastDriftsOffsetAreTheConvergedSteps) {
+  std::mt19937 rng(5);
+  const ArticulatedBody tree = testing::randomTree(rng, 7, true, kLambda);
+  auto integ = make("cga2");
+  TreeState s;
+  s.q = VectorXd::LinSpaced(7, -0.6, 0.6);
+  s.v = VectorXd::LinSpaced(7, 1.5, -1.0);
+  s.omega_0 = cga::Bivelocity({0.2, -0.4, 0.7}, {0.1, 0.05, -0.2});
+  TreeLoads drift;  // no gravity, no efforts: a contact step's drift
+  drift.effort = VectorXd::Zero(7);
+  std::normal_distribution<double> kick(0.0, 0.01);
+  double worst_v = 0.0, worst_q = 0.0;
+  int warm_passes = 0, cold_passes = 0;
+  TreeKinematics kin;
+  Eigen::MatrixXd M;
+  for (int k = 0; k < 200; ++k) {
+    for (int i = 0; i < 7; ++i) s.v[i] += kick(rng);  // the contact impulses of the step
+    treeKinematics(tree, s, kin);
+    massMatrix(tree, kin, M);
+    TreeState fresh = s;
+    auto cold = make("cga2");
+    cold->startFrom(fresh, kin, &M);
+    cold->step(tree, drift, 1e-3, fresh);
+    integ->reset();  // as the World resets it after each contact step
+    integ->startFrom(s, kin, &M);
+    integ->step(tree, drift, 1e-3, s);
+    warm_passes += integ->lastIterations();
+    cold_passes += cold->lastIterations();
+    const double scale = 1.0 + fresh.v.cwiseAbs().maxCoeff();
+    worst_v = std::max(worst_v, (s.v - fresh.v).cwiseAbs().maxCoeff() / scale);
+    worst_v = std::max(worst_v, ((s.omega_0.rot - fresh.omega_0.rot).norm() +
+                                 (s.omega_0.trans - fresh.omega_0.trans).norm()) /
+                                    scale);
+    worst_q = std::max(worst_q, (s.q - fresh.q).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst_v, 1e-13);
+  EXPECT_LT(worst_q, 2e-15);
+  EXPECT_LT(warm_passes, cold_passes);
+  std::printf("contact drifts: %d passes warm, %d cold over 200 steps\n", warm_passes, cold_passes);
+}
+
 ArticulatedBody satellite() {
   // A 100 kg bus with two 10 kg panels hinged about y at its ±x faces.
   const Inertia bus = Inertia::fromPrincipal("bus", 100, Vector3d::Constant(100.0 / 6)).value();
