@@ -183,8 +183,16 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   start_hint_ = false;
   if (!fresh) {  // momenta of a state set from outside
     if (!hinted) treeKinematics(tree, state, kin_);
-    T_ = kineticEnergy(tree, kin_);
-    momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
+    if (hinted_mass) {  // M ν with the hint's M: the momenta the recursion gives, to round-off
+      nu_start_.resize(nv);
+      if (tree.floating()) nu_start_.head<6>() = tree_math::vec(state.omega_0);
+      nu_start_.tail(n) = state.v;
+      pm_.noalias() = M_ * nu_start_;
+      T_ = 0.5 * nu_start_.dot(pm_);
+    } else {
+      T_ = kineticEnergy(tree, kin_);
+      momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
+    }
     f_ext_.resize(tree.bodyCount());  // sized now, so the steps after this one do not allocate
     mid_ = state;
     differences_.resize(static_cast<std::size_t>(nv) * kDifferences);
@@ -214,8 +222,8 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   // A contact step's drift starts from the state its kick and impulses left (startFrom), whose
   // ν̄ − ν changes little from one contact step to the next: the last drift's, added to ν, is
   // the closer start (the iteration converges to the same root from either).
-  const bool drift_warm = hinted && !extrapolated && drift_offset_valid_ && h == drift_h_ &&
-                          drift_offset_.size() == nv;
+  const bool drift_warm =
+      hinted && !extrapolated && drift_offset_valid_ && h == drift_h_ && drift_offset_.size() == nv;
   if (hinted) drift_start_ = nu_bar_;
   if (drift_warm) nu_bar_ += drift_offset_;
   drift_offset_valid_ = false;  // until this step converges from its hint

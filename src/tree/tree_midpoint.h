@@ -145,6 +145,7 @@ class Midpoint final : public TreeIntegrator {
   // A contact step's drift (a step from a hint): its ν at the start, and ν̄ − ν of the last
   // such step of h that converged (kept through reset(): a starting guess only).
   Eigen::VectorXd drift_start_, drift_offset_;
+  Eigen::VectorXd nu_start_;  // ν at a hinted step's start (its momenta from the hint's M)
   double drift_h_ = 0.0;
   bool drift_offset_valid_ = false;
   static constexpr int kMaxDegree = 7;
