@@ -8,14 +8,16 @@ namespace cga_rigid_sim {
 namespace sim {
 namespace {
 
-// A bivector's coefficients (e23, e31, e12; e1n, e2n, e3n) as the world twist (ω; v_o) of a
-// world-frame bivector: v_o = λ u is the velocity of the point at the world origin.
-Eigen::Matrix<double, 6, 1> twistOf(const Eigen::Matrix<double, 6, 6>& X, const cga::Bivelocity& s,
+// The world twist (ω; v_o) of a link's screw s = (w, u) (e23, e31, e12; e1n, e2n, e3n) in the
+// link's frame, the link at M_W (x ↦ R x + a): the screw moved to the world, (R w, R u +
+// (a/λ) × R w) (adjointMatrix's blocks, doc/articulated.md (A1)), with v_o = λ times its second
+// half the velocity of the point at the world origin.
+Eigen::Matrix<double, 6, 1> twistOf(const cga::Motor& M_W, const cga::Bivelocity& s,
                                     double lambda) {
+  const Eigen::Matrix3d R = M_W.rotation().toRotationMatrix();
+  const Eigen::Vector3d Rw = R * s.rot;
   Eigen::Matrix<double, 6, 1> c;
-  c << s.rot, s.trans;
-  c = X * c;
-  c.tail<3>() *= lambda;
+  c << Rw, lambda * (R * s.trans) + M_W.translation(lambda).cross(Rw);
   return c;
 }
 
@@ -153,8 +155,7 @@ void makeCoordinates(const Model& model, const Data& data, const dynamics::Artic
     }
   }
   for (int k = 0; k < tree.jointCount(); ++k)
-    out.twist.col(tree.velocityIndex(k)) =
-        twistOf(dynamics::adjointMatrix(S.kin.M_W[k + 1], lambda), tree.screwInChild(k), lambda);
+    out.twist.col(tree.velocityIndex(k)) = twistOf(S.kin.M_W[k + 1], tree.screwInChild(k), lambda);
   out.parent.resize(tree.bodyCount());
   out.parent[0] = -1;
   for (int b = 1; b < tree.bodyCount(); ++b) out.parent[b] = tree.parentOf(b);
