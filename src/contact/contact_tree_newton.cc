@@ -258,7 +258,7 @@ double TreeNewton::cost(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f,
 
 int TreeNewton::predict(const Eigen::MatrixXd& M, const Eigen::VectorXd& nu_f,
                         Eigen::VectorXd& nu) {
-  const int m = rows, s = n_single, n = nv;
+  const int m = rows, s = n_single;
   bool any = false;
   for (int i = 0; i < m; ++i) any = (active_[i] = beta[i] > 0) || any;
   for (int j = 0; j < s; ++j) any = (active_[m + j] = single[j].beta > 0) || any;

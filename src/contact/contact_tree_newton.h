@@ -64,7 +64,10 @@ struct TreeNewton {
   long factorisations = 0, rank_updates = 0;
 
  private:
-  Eigen::MatrixXd H_, S_;
+  // Row-major: the factorisation, its updates and solves all walk a row of L (a coordinate's
+  // entries left of the diagonal).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H_;
+  Eigen::MatrixXd S_;
   Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_, start_;
   Eigen::VectorXd mdnu_;  // M (ν − ν_f) at the Newton step's ν
   // One round: Newton steps on the cost with the targets re_ until a step moves no row's
