@@ -46,6 +46,7 @@ void TreeNewton::resize(int m, int s, int n) {
     start_.resize(n);
     mdnu_.resize(n);
     x_.setZero(n);
+    dg_.resize(n);
   }
   rows = m;
   n_single = s;
@@ -212,9 +213,13 @@ bool TreeNewton::factorActive(const Eigen::MatrixXd& M) {
       if (!active_[i]) continue;
       const int* nz = row_nz_.data() + row_nz_begin_[i];
       const int k = row_nz_begin_[i + 1] - row_nz_begin_[i];
-      for (int a = 0; a < k; ++a) {
-        const double ga = D[i] * G(i, nz[a]);
-        for (int b = a; b < k; ++b) H_(nz[b], nz[a]) += ga * G(i, nz[b]);
+      // Row by row of H_'s lower triangle (nz is ascending).
+      double* dg = dg_.data();
+      for (int a = 0; a < k; ++a) dg[a] = D[i] * G(i, nz[a]);
+      for (int b = 0; b < k; ++b) {
+        const double gb = G(i, nz[b]);
+        double* row = H_.data() + static_cast<std::ptrdiff_t>(nz[b]) * n;
+        for (int a = 0; a <= b; ++a) row[nz[a]] += dg[a] * gb;
       }
     }
   } else {

@@ -68,6 +68,7 @@ struct TreeNewton {
   // entries left of the diagonal).
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H_;
   Eigen::MatrixXd S_;
+  Eigen::VectorXd dg_;  // factorActive: a row's D_i g_i on its nonzeros
   Eigen::VectorXd grad_, delta_, z_, gd_, re_, work_, dnu_, start_;
   Eigen::VectorXd mdnu_;  // M (ν − ν_f) at the Newton step's ν
   // One round: Newton steps on the cost with the targets re_ until a step moves no row's
