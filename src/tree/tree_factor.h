@@ -43,6 +43,16 @@ class TreeCholesky {
     if (!sparse() || ltl_.size() != x.size()) return dense_.solveInPlace(x);
     ltl_.solveInPlace(x.data());
   }
+  /// x ← A⁻¹ e_k (x of A's size): the same as solveInPlace of e_k, with the first half of the
+  /// sparse solve along k's path alone.
+  void solveUnit(int k, Eigen::VectorXd& x) const {
+    if (!sparse()) {
+      x.setZero();
+      x[k] = 1.0;
+      return dense_.solveInPlace(x);
+    }
+    ltl_.solveUnit(k, x.data());
+  }
 
  private:
   math::LtlFactor ltl_;  // sparse (math/ltl_factor.h)

@@ -61,6 +61,25 @@ TEST(LtlFactor, SolvesAsTheDenseFactorOnRandomTrees) {
   }
 }
 
+// A unit vector's solve skips the coordinates off its path in the first half, where a full
+// solve only subtracts zeros: the same bits.
+TEST(LtlFactor, AUnitVectorsSolveIsTheFullSolveToTheBit) {
+  std::mt19937 rng(3);
+  LtlFactor factor;
+  for (int trial = 0; trial < 50; ++trial) {
+    const int n = std::uniform_int_distribution<int>(1, 40)(rng);
+    const std::vector<int> parent = randomParents(rng, n);
+    factor.setParents(parent);
+    ASSERT_TRUE(factor.compute(randomTreeMatrix(rng, parent), true));
+    for (int k = 0; k < n; ++k) {
+      Eigen::VectorXd full = Eigen::VectorXd::Unit(n, k), unit = Eigen::VectorXd::Constant(n, 7.0);
+      factor.solveInPlace(full.data());
+      factor.solveUnit(k, unit.data());
+      for (int i = 0; i < n; ++i) ASSERT_EQ(unit[i], full[i]) << "n " << n << " k " << k;
+    }
+  }
+}
+
 TEST(LtlFactor, RefusesAMatrixThatIsNotPositiveDefinite) {
   std::mt19937 rng(11);
   const std::vector<int> parent = randomParents(rng, 12);

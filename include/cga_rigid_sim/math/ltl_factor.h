@@ -85,6 +85,17 @@ class LtlFactor {
     for (int k = 0; k < n; ++k) finish<1>(x, 0, k);
   }
 
+  /// x ← M⁻¹ e_k (x of size(), overwritten). Lᵀ y = e_k is zero off k's path to the root, so
+  /// the first half runs along that path alone; the same bits as solveInPlace of e_k.
+  void solveUnit(int k, double* x) const {
+    const int n = size();
+    for (int i = 0; i < n; ++i) x[i] = 0.0;
+    x[k] = 1.0;
+    eliminate<1>(x, 0, k);
+    for (int p = offset_[k]; p < offset_[k + 1]; ++p) eliminate<1>(x, 0, path_[p]);
+    for (int i = 0; i < n; ++i) finish<1>(x, 0, i);
+  }
+
   /// Coordinate i's step of Lᵀ y = x for C columns of x (column c at x + c stride; the
   /// coordinates below i done): y_i = x_i / L_ii, taken off its ancestors.
   template <int C>
