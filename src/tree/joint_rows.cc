@@ -50,13 +50,30 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::TreeCholesky
     llt.solveInPlace(columns_[k]);
     column_matrix_[k] = matrix_;
   }
+  // The sweeps on the rows' own system: w = ν̄[index] moves by G y, an O(m) update where ν̄'s
+  // would be O(n); ν̄ takes the impulses once at the end. (The same iteration as sweeping ν̄
+  // itself: only the rounding differs.)
+  const int m = static_cast<int>(rows_.size());
+  if (G_.rows() < m) {  // never shrunk: no reallocation once the most rows have been seen
+    G_.resize(m, m);
+    w_.resize(m);
+  }
+  const Eigen::Index stride = G_.rows();
+  double* G = G_.data();
+  double* w = w_.data();
+  for (int s = 0; s < m; ++s) {
+    const double* column = columns_[rows_[s].index].data();
+    double* G_s = G + s * stride;
+    for (int r = 0; r < m; ++r) G_s[r] = column[rows_[r].index];
+    w[s] = nu_bar[rows_[s].index];
+  }
   const double scale = 1.0 + nu_bar.cwiseAbs().maxCoeff();
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     double largest = 0.0;
-    for (std::size_t r = 0; r < rows_.size(); ++r) {
+    for (int r = 0; r < m; ++r) {
       Row& row = rows_[r];
-      const Eigen::VectorXd& column = columns_[row.index];
-      const double v = nu_bar[row.index], a = column[row.index];
+      const double* G_r = G + r * stride;
+      const double v = w[r], a = G_r[r];
       double y = row.y;
       switch (row.kind) {
         case Kind::kLower:
@@ -70,12 +87,15 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::TreeCholesky
           break;
       }
       const double dy = y - row.y;
-      if (dy != 0.0) nu_bar += column * dy;
+      if (dy != 0.0)
+        for (int i = 0; i < m; ++i) w[i] += G_r[i] * dy;
       largest = std::max(largest, std::abs(dy * a));
       row.y = y;
     }
     if (largest <= kSweepTolerance * scale) break;
   }
+  for (const Row& row : rows_)
+    if (row.y != 0.0) nu_bar += columns_[row.index] * row.y;
   for (const Row& row : rows_) {
     const bool held = row.kind == Kind::kFriction ? std::abs(row.y) < row.bound : row.y != 0.0;
     if (held && std::find(held_.begin(), held_.end(), row.index) == held_.end())

@@ -92,6 +92,10 @@ class JointRows {
   std::vector<Eigen::VectorXd> columns_;
   std::vector<unsigned> column_matrix_;
   unsigned matrix_ = 1;
+  // The sweeps run on the rows' own m × m system: G(r, s) = (A e_{index s})[index r] and the
+  // rows' rates w (sized to the most rows yet: a step does not allocate).
+  Eigen::MatrixXd G_;
+  Eigen::VectorXd w_;
   mutable StopScratch stop_;  // stopHeld's working storage
 };
 
