@@ -28,15 +28,20 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::TreeCholesky
       if (c.friction > 0 || c.hasLimits())
         watched_.push_back({c.joint, tree.reducedIndex(c.joint), c.lower, c.upper, c.friction});
   }
-  for (std::size_t p = 0; p < watched_.size(); ++p) {
-    const Watched& j = watched_[p];
-    const int k = j.joint, i = j.index, key = 3 * static_cast<int>(p);
+  // (Local pointers: rows_.push_back could alias the members, so the compiler would reload
+  // them for every joint.)
+  const Watched* watched = watched_.data();
+  const int watched_count = static_cast<int>(watched_.size());
+  const double *q_data = q.data(), *nu_data = nu_bar.data();
+  for (int p = 0; p < watched_count; ++p) {
+    const Watched& j = watched[p];
+    const int k = j.joint, i = j.index, key = 3 * p;
+    const double q_k = q_data[k], end = q_k + h * nu_data[i];
     if (j.friction > 0) rows_.push_back({i, Kind::kFriction, 0.0, 0.5 * h * j.friction, key});
-    const double end = q[k] + h * nu_bar[i];
-    if (end <= j.lower || q[k] <= j.lower)
-      rows_.push_back({i, Kind::kLower, (j.lower - q[k]) / h, 0.0, key + 1});
-    if (end >= j.upper || q[k] >= j.upper)
-      rows_.push_back({i, Kind::kUpper, (j.upper - q[k]) / h, 0.0, key + 2});
+    if (end <= j.lower || q_k <= j.lower)
+      rows_.push_back({i, Kind::kLower, (j.lower - q_k) / h, 0.0, key + 1});
+    if (end >= j.upper || q_k >= j.upper)
+      rows_.push_back({i, Kind::kUpper, (j.upper - q_k) / h, 0.0, key + 2});
   }
   const bool warm = last_matrix_ == matrix_ && warmStart();
   if (rows_.empty()) {
