@@ -41,8 +41,9 @@ void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd&
 class JointRows {
  public:
   /// The step's matrix changed: the columns A e_k kept from the solves since the last call are
-  /// dropped. Within a step (one llt, several solves: the midpoint's iterations) each column is
-  /// made once.
+  /// dropped, and so are the impulses the next solve would start from. Within a step (one llt,
+  /// several solves: the midpoint's iterations) each column is made once, and each solve starts
+  /// from the impulses of the one before.
   void newMatrix() { ++matrix_; }
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step),
   /// with llt the matrix of the last newMatrix() call.
