@@ -41,8 +41,9 @@ void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd&
 class JointRows {
  public:
   /// The step's matrix changed: the columns A e_k kept from the solves since the last call are
-  /// dropped. Within a step (one llt, several solves: the midpoint's iterations) each column is
-  /// made once.
+  /// dropped, and so are the impulses the next solve would start from. Within a step (one llt,
+  /// several solves: the midpoint's iterations) each column is made once, and each solve starts
+  /// from the impulses of the one before.
   void newMatrix() { ++matrix_; }
   /// Adjusts ν̄ for the limits and friction of the joints at positions q (start of the step),
   /// with llt the matrix of the last newMatrix() call.
@@ -76,8 +77,18 @@ class JointRows {
     Kind kind;
     double target;  // limits: the rate that reaches the limit in h
     double bound;   // friction: ½ h F
+    int key;        // 3 × its joint's position in watched_ + 0 friction, 1 lower, 2 upper
     double y = 0.0;
   };
+  // Starts each row from its impulse in the last solve if that solve had the row and this
+  // matrix. Returns whether any row starts from a nonzero impulse.
+  bool warmStart();
+  // Projected Gauss–Seidel on the rows' system (G_, w_) from their impulses y until no impulse
+  // changes a rate by more than the tolerance (relative to `scale`). Returns the sweeps made.
+  int sweep(double scale);
+  // Where a coordinate has several rows, a split of their impulses that does not depend on
+  // the sweeps' path (only the sum is unique when two rows pin the same rate).
+  void canonicalSplit();
   // Joints with friction or limits (those without are never held), of the tree last solved
   // (an integrator, and its rows, belong to one tree). Unlimited bounds are ±∞: no row.
   struct Watched {
@@ -92,6 +103,13 @@ class JointRows {
   std::vector<Eigen::VectorXd> columns_;
   std::vector<unsigned> column_matrix_;
   unsigned matrix_ = 1;
+  // The sweeps run on the rows' own m × m system: G(r, s) = (A e_{index s})[index r] and the
+  // rows' rates w (sized to the most rows yet: a step does not allocate).
+  Eigen::MatrixXd G_;
+  Eigen::VectorXd w_;
+  // The rows of the last solve, and its matrix: the next solve's start (warmStart).
+  std::vector<Row> last_rows_;
+  unsigned last_matrix_ = 0;
   mutable StopScratch stop_;  // stopHeld's working storage
 };
 
