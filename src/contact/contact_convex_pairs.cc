@@ -208,8 +208,14 @@ void primitiveSupport(const CollisionCache::Shape& s, const ccd_vec3_t& d, ccd_v
 // point out of it by libccd's rotations, as FCL's support functions do.
 void support(const void* object, const ccd_vec3_t* direction_W, ccd_vec3_t* out) {
   const auto* p = static_cast<const Placed*>(object);
+  // libccd has just stored the direction as x, y in one 16-byte store and z in another
+  // (__ccdSupport's copy). Read as three numbers: the rotation below, vectorised, would read
+  // y, z as one 16-byte load across the two stores, which the store buffer cannot forward, and
+  // every query would wait for them to reach the cache. (The empty asm keeps the three loads.)
+  double x = direction_W->v[0], y = direction_W->v[1], z = direction_W->v[2];
+  asm("" : "+x"(x), "+x"(y), "+x"(z));
   ccd_vec3_t d;
-  ccdVec3Copy(&d, direction_W);
+  ccdVec3Set(&d, x, y, z);
   ccdQuatRotVec(&d, &p->inverse);
   if (p->shape->convex == CollisionCache::Shape::Convex::kHull) {
     const Eigen::Vector3d& v =

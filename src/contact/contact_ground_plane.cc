@@ -151,8 +151,18 @@ void shapeOnPlane(const Model& model, CollisionCache& cache, std::size_t s, doub
     case Shape::Kind::kMesh: {
       // The hull's vertices within the margin, reduced to the four that span the contact
       // patch (a mesh's flat sole has dozens of coplanar vertices; four corners hold it).
+      // A vertex is placed (X * v, the test's own arithmetic) only where its height, from X's
+      // last row alone, is not clearly above the margin: most of a hull's vertices are far
+      // above. The two heights differ by a few roundings of the terms (≤ 1e-15 of their size);
+      // `slack`, 1e-9 of a bound on every term, keeps each vertex the exact test could take.
       cache.plane_points.clear();
+      const Eigen::Vector3d row = X.linear().row(2).transpose();
+      const double z0 = X.translation().z();
+      const double slack = 1e-9 * (cs.centre_S.norm() + cs.bound + std::abs(z0) +
+                                   std::abs(plane.height) + std::abs(margin));
+      const double skip_above = plane.height + margin + slack;
       for (std::size_t v = 0; v < cs.vertices_S.size(); ++v) {
+        if (row.dot(cs.vertices_S[v]) + z0 > skip_above) continue;
         const Eigen::Vector3d p = X * cs.vertices_S[v];
         if (p.z() - plane.height <= margin) cache.plane_points.push_back({p, static_cast<int>(v)});
       }

@@ -12,8 +12,32 @@
 namespace cga_rigid_sim {
 namespace sim {
 
-bool SelfCollision::binarySearch(const std::pair<int, int>& key) const {
-  return std::binary_search(allowed.begin(), allowed.end(), key);
+void SelfCollision::indexAllowed() {
+  const std::size_t n = robot_of_body.size();
+  pair_row_.assign(n, 0);
+  place_in_robot_.assign(n, -1);
+  // Each robot's bodies, in body order (labels are only compared with each other).
+  std::map<int, std::vector<int>> bodies_of_robot;
+  for (std::size_t j = 0; j < n; ++j)
+    if (robot_of_body[j] >= 0) bodies_of_robot[robot_of_body[j]].push_back(static_cast<int>(j));
+  std::size_t bits = 0;
+  for (const auto& [robot, bodies] : bodies_of_robot) {
+    const std::size_t k = bodies.size();
+    for (std::size_t p = 0; p < k; ++p) {
+      place_in_robot_[bodies[p]] = static_cast<int>(p);
+      pair_row_[bodies[p]] = bits + p * k;
+    }
+    bits += k * k;
+  }
+  pair_bits_.assign((bits + 63) / 64, 0u);
+  const auto set = [this](int a, int b) {
+    const std::size_t bit = pair_row_[a] + static_cast<std::size_t>(place_in_robot_[b]);
+    pair_bits_[bit >> 6] |= std::uint64_t{1} << (bit & 63);
+  };
+  for (const auto& [a, b] : allowed) {
+    set(a, b);
+    set(b, a);
+  }
 }
 
 void SelfCollision::eraseBodies(int first, int count) {
@@ -29,6 +53,7 @@ void SelfCollision::eraseBodies(int first, int count) {
                  excluded.end());
   for (auto& p : allowed) p = {shift(p.first), shift(p.second)};
   for (auto& e : excluded) e.a = shift(e.a), e.b = shift(e.b);
+  indexAllowed();
 }
 
 void SelfCollision::appendRobot(const SelfCollision& robot, int first_body) {
@@ -44,6 +69,7 @@ void SelfCollision::appendRobot(const SelfCollision& robot, int first_body) {
     e.b += first_body;
     excluded.push_back(e);
   }
+  indexAllowed();
 }
 
 const char* toString(SelfCollision::Reason reason) {
@@ -163,6 +189,7 @@ void compileSelfCollision(Model& model) {
         sc.allowed.push_back(p);
     }
   }
+  sc.indexAllowed();
 }
 
 void leaveOutInitialOverlaps(Model& model, const Data& data, CollisionCache& cache) {
@@ -191,6 +218,7 @@ void leaveOutInitialOverlaps(Model& model, const Data& data, CollisionCache& cac
       sc.excluded.push_back({p.first, p.second, SelfCollision::Reason::kOverlap, it->second});
   }
   sc.allowed = std::move(kept);
+  sc.indexAllowed();
   std::sort(sc.excluded.begin(), sc.excluded.end(),
             [](const SelfCollision::Excluded& x, const SelfCollision::Excluded& y) {
               return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);

@@ -215,6 +215,58 @@ TEST(SelfCollision, DifferentRobotsAlwaysCollide) {
   EXPECT_TRUE(w->model().self_collision.collides(palm, ball));
 }
 
+// The pair matrix collides() reads agrees with its definition on every pair of bodies: true
+// for bodies of different robots or of none, else exactly for the pairs in the sorted list
+// `allowed` (found by bisection, as collides() did before the matrix). Checked on the
+// overlapping arm, after spawning two copies of it as robots and a free body (appendBody,
+// appendRobot) and after deleting the first copy (eraseBodies: the second's indices shift).
+TEST(SelfCollision, PairMatrixAgreesWithTheAllowedList) {
+  auto w = makeWorld(loadArm(), SelfCollisionMode::kAuto);
+  ASSERT_TRUE(w);
+  const auto agrees = [&w](const char* when) {
+    const SelfCollision& sc = w->model().self_collision;
+    const int n = static_cast<int>(sc.robot_of_body.size());
+    ASSERT_EQ(n, static_cast<int>(w->model().scene.bodies.size())) << when;
+    ASSERT_TRUE(std::is_sorted(sc.allowed.begin(), sc.allowed.end())) << when;
+    int listed = 0;
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        if (a == b) continue;
+        const int ra = sc.robot_of_body[a];
+        const bool in_list = std::binary_search(sc.allowed.begin(), sc.allowed.end(),
+                                                std::make_pair(std::min(a, b), std::max(a, b)));
+        const bool expected = ra < 0 || ra != sc.robot_of_body[b] || in_list;
+        listed += in_list;
+        EXPECT_EQ(sc.collides(a, b), expected) << when << ": bodies " << a << ", " << b;
+      }
+    EXPECT_EQ(listed, 2 * static_cast<int>(sc.allowed.size())) << when;
+  };
+  agrees("loaded");
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  SpawnOptions options;
+  options.robot_namespace = "c1";
+  pose.translation().x() = 3.0;
+  ASSERT_TRUE(w->spawnUrdf("c1", test::overlappingArmUrdf(), pose, Eigen::Vector3d::Zero(),
+                           Eigen::Vector3d::Zero(), options)
+                  .ok());
+  ASSERT_TRUE(
+      w->spawnUrdf("ball",
+                   "<robot name='b'><link name='b'>" + test::boxInertial(1.0, {0.1, 0.1, 0.1}) +
+                       test::boxCollision({0.1, 0.1, 0.1}) + "</link></robot>",
+                   Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())
+          .ok());
+  options.robot_namespace = "c2";
+  pose.translation().x() = -3.0;
+  ASSERT_TRUE(w->spawnUrdf("c2", test::overlappingArmUrdf(0.0), pose, Eigen::Vector3d::Zero(),
+                           Eigen::Vector3d::Zero(), options)
+                  .ok());
+  agrees("spawned");
+  ASSERT_TRUE(w->deleteBody("c1").ok());
+  agrees("deleted");
+  w->step(3);  // and detection with it still runs
+  agrees("stepped");
+}
+
 // The mode's names.
 TEST(SelfCollision, ModeNames) {
   EXPECT_EQ(scene::parseSelfCollisionMode("auto"), SelfCollisionMode::kAuto);
