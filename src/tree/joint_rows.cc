@@ -57,9 +57,8 @@ void JointRows::solve(const ArticulatedBody& tree, const tree_math::TreeCholesky
   for (const Row& row : rows_) {  // the columns this matrix has not made yet
     const int k = row.index;
     if (column_matrix_[k] == matrix_) continue;
-    columns_[k].setZero(nu_bar.size());
-    columns_[k][k] = 1.0;
-    llt.solveInPlace(columns_[k]);
+    columns_[k].resize(nu_bar.size());
+    llt.solveUnit(k, columns_[k]);
     column_matrix_[k] = matrix_;
   }
   // The sweeps run on the rows' own system: w = ν̄[index] moves by G y, an O(m) update where
@@ -192,6 +191,18 @@ void JointRows::clampPositions(const ArticulatedBody& tree, Eigen::VectorXd& q) 
   applyMimicPositions(tree, q);
 }
 
+namespace {
+// e ← A⁻¹ e_k (e of A's size): along k's path on a tree's factor (the same bits).
+void unitColumn(const tree_math::TreeCholesky& llt, int k, Eigen::VectorXd& e) {
+  llt.solveUnit(k, e);
+}
+void unitColumn(const tree_math::Cholesky& llt, int k, Eigen::VectorXd& e) {
+  e.setZero();
+  e[k] = 1.0;
+  llt.solveInPlace(e);
+}
+}  // namespace
+
 template <class Factor>
 void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd& nu,
                StopScratch& s) {
@@ -207,9 +218,7 @@ void stopRates(const Factor& llt, const std::vector<int>& held, Eigen::VectorXd&
     s.dnu.resize(n);
   }
   for (int c = 0; c < m; ++c) {
-    s.e.setZero();
-    s.e[held[c]] = 1.0;
-    llt.solveInPlace(s.e);
+    unitColumn(llt, held[c], s.e);
     s.AE.col(c) = s.e;
     s.v[c] = -nu[held[c]];
   }
