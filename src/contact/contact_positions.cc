@@ -64,7 +64,7 @@ bool runsMatch(const std::vector<SolverTree>& trees, std::vector<ContactRow>& ro
   }
   forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
     forTreeSides(T, c, k, [&](int, const SolverWork::TreeSweeps::Run& run, bool b) {
-      const Eigen::Matrix<double, Eigen::Dynamic, 3>& Y = b ? c.wb : c.wa;
+      const TreeFactor::Columns& Y = b ? c.wb : c.wa;
       match = match && run.size > 0 && run.first + run.size <= static_cast<int>(T.y.size()) &&
               T.coordinate[run.first] < Y.rows() &&
               T.y[run.first] == Y.row(T.coordinate[run.first]).transpose();

@@ -110,7 +110,7 @@ struct ContactRow {
   Eigen::Matrix<double, 3, Eigen::Dynamic> ja, jb;
   /// The tree sides' Y = L⁻ᵀ jᵀ (TreeFactor::halfSolve), which gave ka, kb = Yᵀ Y and on
   /// which the sweeps work (contact_solver_internals.h, SolverWork::TreeSweeps).
-  Eigen::Matrix<double, Eigen::Dynamic, 3> wa, wb;
+  TreeFactor::Columns wa, wb;
   /// The coordinates from whose paths to the base the tree sides' Jacobians draw (−1: none; a
   /// contact between two links of one tree has two on side a).
   int leaf_a = -1, leaf_a2 = -1, leaf_b = -1;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cga_rigid_sim/math/union_find.h"
+#include "contact/contact_tree_factor.h"
 #include "contact/contact_tree_newton.h"
 
 namespace cga_rigid_sim {
@@ -112,7 +113,9 @@ struct SolverWork {
     std::vector<std::vector<Run>> stop;
     std::vector<std::vector<double>> stop_a, stop_norm;
     /// Per tree: a half solve's columns (kept per tree: trees of other sizes would reallocate).
-    std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> scratch;
+    std::vector<TreeFactor::Columns> scratch;
+    /// Per tree: L⁻¹ z, the sweeps' change of ν (sweptChange).
+    std::vector<Eigen::VectorXd> change;
     /// The island and rows whose runs these are once its velocity sweeps have run (cleared at
     /// the start of solveVelocities and by loadSweptLimits, set by sweepIsland, taken by the
     /// solvePositions that follows on the same rows and islands, which then uses the runs as

@@ -45,7 +45,7 @@ void TreeFactor::halfSolve(Columns& Y, int leaf_a, int leaf_b) const {
   }
 }
 
-void TreeFactor::eliminate(Columns& Y, int i) const { ltl_.eliminate<3>(Y.data(), Y.rows(), i); }
+void TreeFactor::eliminate(Columns& Y, int i) const { ltl_.eliminate<3>(Y.data(), 1, Y.rows(), i); }
 
 void TreeFactor::finishSolve(Columns& Y) const {
   if (!sparse_) {
@@ -53,7 +53,16 @@ void TreeFactor::finishSolve(Columns& Y) const {
     return;
   }
   const int n = static_cast<int>(Y.rows());
-  for (int i = 0; i < n; ++i) ltl_.finish<3>(Y.data(), Y.rows(), i);
+  for (int i = 0; i < n; ++i) ltl_.finish<3>(Y.data(), 1, Y.rows(), i);
+}
+
+void TreeFactor::finishSolve(Eigen::VectorXd& z) const {
+  if (!sparse_) {
+    dense_.matrixU().solveInPlace(z);
+    return;
+  }
+  const int n = static_cast<int>(z.size());
+  for (int i = 0; i < n; ++i) ltl_.finish<1>(z.data(), 1, 0, i);
 }
 
 }  // namespace sim

@@ -49,6 +49,8 @@ class TreeFactor {
   void halfSolve(Columns& Y, int leaf_a, int leaf_b) const;
   /// The second half, after halfSolve: Y ← M⁻¹ Jᵀ.
   void finishSolve(Columns& Y) const;
+  /// The second half for one column: z ← L⁻¹ z (sparse) or L⁻ᵀ z (dense).
+  void finishSolve(Eigen::VectorXd& z) const;
 
  private:
   // Coordinate i's step of Lᵀ y = Y (its descendants' done): y_i, taken off its ancestors.

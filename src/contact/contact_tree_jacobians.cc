@@ -40,7 +40,7 @@ int leafOf(const SolverTree& T, int b) {
 // off those paths, so the product sums their rows alone, walked as halfSolve walks them (a
 // general matrix product of 3 × n by n × 3 would cost several times the rows' sums).
 Eigen::Matrix3d halfResponse(const SolverTree& T, const Eigen::Matrix<double, 3, Eigen::Dynamic>& j,
-                             int leaf, int leaf2, Eigen::Matrix<double, Eigen::Dynamic, 3>& Y) {
+                             int leaf, int leaf2, TreeFactor::Columns& Y) {
   Y = j.transpose();
   T.factor.halfSolve(Y, leaf, leaf2);
   if (!T.factor.sparse()) return Y.transpose() * Y;

@@ -18,7 +18,7 @@ void loadSweptLimits(const SolverTree& t, int tree, SolverWork::TreeSweeps& T) {
   stop.resize(m);
   stop_a.resize(m);
   stop_norm.resize(m);
-  Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[tree];
+  TreeFactor::Columns& columns = T.scratch[tree];
   columns.setZero(n, 3);
   T.swept_island = nullptr;  // the runs are being made anew
   const bool sparse = t.factor.sparse();

@@ -45,8 +45,8 @@ void loadWork(const std::vector<SolverBody>& bodies, const std::vector<ContactRo
 // Y's rows on them, and J ν₀ over them (J is zero off them), added to u.
 SolverWork::TreeSweeps::Run loadSide(const SolverTree& t,
                                      const Eigen::Matrix<double, 3, Eigen::Dynamic>& J,
-                                     const Eigen::Matrix<double, Eigen::Dynamic, 3>& Y, int leaf,
-                                     int leaf2, SolverWork::TreeSweeps& T, Eigen::Vector3d& u) {
+                                     const TreeFactor::Columns& Y, int leaf, int leaf2,
+                                     SolverWork::TreeSweeps& T, Eigen::Vector3d& u) {
   SolverWork::TreeSweeps::Run run;
   run.first = static_cast<int>(T.coordinate.size());
   auto take = [&](int i) {
@@ -87,6 +87,7 @@ void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<Cont
   T.stop_a.resize(trees.size());
   T.stop_norm.resize(trees.size());
   T.scratch.resize(trees.size());
+  T.change.resize(trees.size());
   for (int q = I.first_tree; q < I.first_tree + I.trees; ++q) {
     const int t = work.island_tree[q];
     T.z[t].setZero(trees[t].nu.size());
@@ -109,11 +110,10 @@ void loadTreeSweeps(const std::vector<SolverTree>& trees, const std::vector<Cont
 
 Eigen::Ref<const Eigen::VectorXd> sweptChange(const SolverTree& tree, SolverWork::TreeSweeps& T,
                                               int t) {
-  Eigen::Matrix<double, Eigen::Dynamic, 3>& columns = T.scratch[t];
-  columns.setZero(tree.nu.size(), 3);
-  columns.col(0) = T.z[t];
-  tree.factor.finishSolve(columns);  // L⁻¹ z
-  return columns.col(0);
+  Eigen::VectorXd& change = T.change[t];
+  change = T.z[t];                  // (copies into storage of the same size: no allocation)
+  tree.factor.finishSolve(change);  // L⁻¹ z
+  return change;
 }
 
 void finishTreeSweeps(std::vector<SolverTree>& trees, SolverWork& work,

@@ -54,8 +54,8 @@ TEST(LtlFactor, SolvesAsTheDenseFactorOnRandomTrees) {
     Eigen::Matrix<double, Eigen::Dynamic, 3> Y =
         Eigen::Matrix<double, Eigen::Dynamic, 3>::Random(n, 3);
     const Eigen::Matrix<double, Eigen::Dynamic, 3> Y_ref = M.llt().solve(Y);
-    for (int i = n - 1; i >= 0; --i) factor.eliminate<3>(Y.data(), Y.rows(), i);
-    for (int i = 0; i < n; ++i) factor.finish<3>(Y.data(), Y.rows(), i);
+    for (int i = n - 1; i >= 0; --i) factor.eliminate<3>(Y.data(), 1, Y.rows(), i);
+    for (int i = 0; i < n; ++i) factor.finish<3>(Y.data(), 1, Y.rows(), i);
     EXPECT_LE((Y - Y_ref).cwiseAbs().maxCoeff(), 1e-10 * (1.0 + Y_ref.cwiseAbs().maxCoeff()))
         << "trial " << trial;
   }

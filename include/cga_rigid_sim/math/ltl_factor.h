@@ -81,8 +81,8 @@ class LtlFactor {
   /// x ← M⁻¹ x: Lᵀ y = x (leaves first), then L z = y (root first), along the paths.
   void solveInPlace(double* x) const {
     const int n = size();
-    for (int k = n - 1; k >= 0; --k) eliminate<1>(x, 0, k);
-    for (int k = 0; k < n; ++k) finish<1>(x, 0, k);
+    for (int k = n - 1; k >= 0; --k) eliminate<1>(x, 1, 0, k);
+    for (int k = 0; k < n; ++k) finish<1>(x, 1, 0, k);
   }
 
   /// x ← M⁻¹ e_k (x of size(), overwritten). Lᵀ y = e_k is zero off k's path to the root, so
@@ -91,38 +91,41 @@ class LtlFactor {
     const int n = size();
     for (int i = 0; i < n; ++i) x[i] = 0.0;
     x[k] = 1.0;
-    eliminate<1>(x, 0, k);
-    for (int p = offset_[k]; p < offset_[k + 1]; ++p) eliminate<1>(x, 0, path_[p]);
-    for (int i = 0; i < n; ++i) finish<1>(x, 0, i);
+    eliminate<1>(x, 1, 0, k);
+    for (int p = offset_[k]; p < offset_[k + 1]; ++p) eliminate<1>(x, 1, 0, path_[p]);
+    for (int i = 0; i < n; ++i) finish<1>(x, 1, 0, i);
   }
 
-  /// Coordinate i's step of Lᵀ y = x for C columns of x (column c at x + c stride; the
+  /// Coordinate i's step of Lᵀ y = x for C columns of x, entry (j, c) at x[j rs + c cs] (the
   /// coordinates below i done): y_i = x_i / L_ii, taken off its ancestors.
   template <int C>
-  void eliminate(double* x, Eigen::Index stride, int i) const {
+  void eliminate(double* x, Eigen::Index rs, Eigen::Index cs, int i) const {
     const double s = inv_diag_[i];
     double y[C];
-    for (int c = 0; c < C; ++c) y[c] = x[i + c * stride] *= s;
+    for (int c = 0; c < C; ++c) y[c] = x[i * rs + c * cs] *= s;
     const double* r = row_.data() + offset_[i];
     const int* path = path_.data() + offset_[i];
     for (int p = 0, m = offset_[i + 1] - offset_[i]; p < m; ++p) {
       const double l = r[p];
-      for (int c = 0; c < C; ++c) x[path[p] + c * stride] -= l * y[c];
+      double* xj = x + path[p] * rs;
+      for (int c = 0; c < C; ++c) xj[c * cs] -= l * y[c];
     }
   }
-  /// Coordinate i's step of L z = y for C columns (its ancestors done): z_i.
+  /// Coordinate i's step of L z = y for C columns, laid out as in eliminate (its ancestors
+  /// done): z_i.
   template <int C>
-  void finish(double* x, Eigen::Index stride, int i) const {
+  void finish(double* x, Eigen::Index rs, Eigen::Index cs, int i) const {
     double z[C];
-    for (int c = 0; c < C; ++c) z[c] = x[i + c * stride];
+    for (int c = 0; c < C; ++c) z[c] = x[i * rs + c * cs];
     const double* r = row_.data() + offset_[i];
     const int* path = path_.data() + offset_[i];
     for (int p = 0, m = offset_[i + 1] - offset_[i]; p < m; ++p) {
       const double l = r[p];
-      for (int c = 0; c < C; ++c) z[c] -= l * x[path[p] + c * stride];
+      const double* xj = x + path[p] * rs;
+      for (int c = 0; c < C; ++c) z[c] -= l * xj[c * cs];
     }
     const double s = inv_diag_[i];
-    for (int c = 0; c < C; ++c) x[i + c * stride] = z[c] * s;
+    for (int c = 0; c < C; ++c) x[i * rs + c * cs] = z[c] * s;
   }
 
  private:
