@@ -197,6 +197,16 @@ TEST(SelfCollision, GazeboSelfCollideDecidesWhereTheUrdfSaysIt) {
 
 // Links of different robots always collide: two copies of the arm side by side (joined by
 // nothing) keep every pair between them whatever the mode; a free body too.
+// A free 1 kg box of 0.1 m, "ball", spawned at the origin: a body of no robot.
+bool spawnBall(World& w) {
+  return w
+      .spawnUrdf("ball",
+                 "<robot name='b'><link name='b'>" + test::boxInertial(1.0, {0.1, 0.1, 0.1}) +
+                     test::boxCollision({0.1, 0.1, 0.1}) + "</link></robot>",
+                 Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())
+      .ok();
+}
+
 TEST(SelfCollision, DifferentRobotsAlwaysCollide) {
   auto w = makeWorld(loadArm(), SelfCollisionMode::kNone);
   ASSERT_TRUE(w);
@@ -204,12 +214,7 @@ TEST(SelfCollision, DifferentRobotsAlwaysCollide) {
   const int upper = m.findBody("upper"), palm = m.findBody("palm");
   ASSERT_GE(upper, 0);
   EXPECT_FALSE(m.self_collision.collides(upper, palm));
-  ASSERT_TRUE(
-      w->spawnUrdf("ball",
-                   "<robot name='b'><link name='b'>" + test::boxInertial(1.0, {0.1, 0.1, 0.1}) +
-                       test::boxCollision({0.1, 0.1, 0.1}) + "</link></robot>",
-                   Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())
-          .ok());
+  ASSERT_TRUE(spawnBall(*w));
   const int ball = w->model().findBody("ball");
   EXPECT_TRUE(w->model().self_collision.collides(ball, upper));
   EXPECT_TRUE(w->model().self_collision.collides(palm, ball));
@@ -249,12 +254,7 @@ TEST(SelfCollision, PairMatrixAgreesWithTheAllowedList) {
   ASSERT_TRUE(w->spawnUrdf("c1", test::overlappingArmUrdf(), pose, Eigen::Vector3d::Zero(),
                            Eigen::Vector3d::Zero(), options)
                   .ok());
-  ASSERT_TRUE(
-      w->spawnUrdf("ball",
-                   "<robot name='b'><link name='b'>" + test::boxInertial(1.0, {0.1, 0.1, 0.1}) +
-                       test::boxCollision({0.1, 0.1, 0.1}) + "</link></robot>",
-                   Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())
-          .ok());
+  ASSERT_TRUE(spawnBall(*w));
   options.robot_namespace = "c2";
   pose.translation().x() = -3.0;
   ASSERT_TRUE(w->spawnUrdf("c2", test::overlappingArmUrdf(0.0), pose, Eigen::Vector3d::Zero(),

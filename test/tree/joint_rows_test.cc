@@ -112,6 +112,15 @@ void pressIntoLimits(std::mt19937& rng, const std::vector<int>& limited, VectorX
 }
 
 // Limit rows only: y and the rates they leave against the enumeration, and the conditions.
+// Three distinct coordinates of n, drawn at random.
+std::vector<int> threeOf(std::mt19937& rng, int n) {
+  std::vector<int> k(n);
+  for (int i = 0; i < n; ++i) k[i] = i;
+  std::shuffle(k.begin(), k.end(), rng);
+  k.resize(3);
+  return k;
+}
+
 // The sweeps stop when no impulse changes a rate by more than 1e-14 (1 + |ν̄|∞); with G's
 // condition below 5 their error is a few times that: 1e-12 of the rates is generous, and a wrong
 // active set or a missed coupling errs by O(1).
@@ -119,10 +128,7 @@ TEST(JointRows, LimitImpulsesSolveTheComplementarityProblem) {
   std::mt19937 rng(51);
   constexpr int n = 8;
   for (int trial = 0; trial < 200; ++trial) {
-    std::vector<int> limited(n);
-    for (int k = 0; k < n; ++k) limited[k] = k;
-    std::shuffle(limited.begin(), limited.end(), rng);
-    limited.resize(3);
+    const std::vector<int> limited = threeOf(rng, n);
     const ArticulatedBody tree = treeWith(rng, n, limited);
     const MatrixXd K = randomSpd(rng, n);
     tree_math::TreeCholesky llt;  // without parents: dense
@@ -179,10 +185,7 @@ TEST(JointRows, WarmStartedSolveEqualsTheColdOne) {
   constexpr int n = 8;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
-    std::vector<int> limited(n);
-    for (int k = 0; k < n; ++k) limited[k] = k;
-    std::shuffle(limited.begin(), limited.end(), rng);
-    limited.resize(3);
+    const std::vector<int> limited = threeOf(rng, n);
     const ArticulatedBody tree = treeWith(rng, n, limited);
     const MatrixXd K = randomSpd(rng, n);
     tree_math::TreeCholesky llt;
