@@ -213,7 +213,9 @@ void support(const void* object, const ccd_vec3_t* direction_W, ccd_vec3_t* out)
   // y, z as one 16-byte load across the two stores, which the store buffer cannot forward, and
   // every query would wait for them to reach the cache. (The empty asm keeps the three loads.)
   double x = direction_W->v[0], y = direction_W->v[1], z = direction_W->v[2];
-  asm("" : "+x"(x), "+x"(y), "+x"(z));
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  asm("" : "+x"(x), "+x"(y), "+x"(z));  // ("x": an SSE register, x86-64 only)
+#endif
   ccd_vec3_t d;
   ccdVec3Set(&d, x, y, z);
   ccdQuatRotVec(&d, &p->inverse);

@@ -5,9 +5,8 @@
 // M(q) from the composite-rigid-body algorithm is zero except where one coordinate is an
 // ancestor of the other (or the same): the branches of a tree do not couple. Featherstone's LTL
 // factorisation M = Lᵀ L (math::LtlFactor; Rigid Body Dynamics Algorithms, 2008, §6.5) keeps that
-// sparsity: L_ij
-// is nonzero only for j = i or j an ancestor of i, so factoring costs Σ_i d_i² and a solve
-// 2 Σ_i d_i (d_i: the number of ancestors of coordinate i) instead of n³/6 and n². And L⁻ᵀ
+// sparsity: L_ij is nonzero only for j = i or j an ancestor of i, so factoring costs Σ_i d_i² and
+// a solve 2 Σ_i d_i (d_i: the number of ancestors of coordinate i) instead of n³/6 and n². And L⁻ᵀ
 // leaves a vector on the coordinates between one link and the base on those coordinates: with
 // Y = L⁻ᵀ Jᵀ a contact's block J M⁻¹ Jᵀ = Yᵀ Y costs O(d²) for a point whose link is d
 // coordinates from the base, however large the rest of the tree; its response M⁻¹ Jᵀ = L⁻¹ Y

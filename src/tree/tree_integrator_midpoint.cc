@@ -184,11 +184,11 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   if (!fresh) {  // momenta of a state set from outside
     if (!hinted) treeKinematics(tree, state, kin_);
     if (hinted_mass) {  // M ν with the hint's M: the momenta the recursion gives, to round-off
-      nu_start_.resize(nv);
-      if (tree.floating()) nu_start_.head<6>() = tree_math::vec(state.omega_0);
-      nu_start_.tail(n) = state.v;
-      pm_.noalias() = M_ * nu_start_;
-      T_ = 0.5 * nu_start_.dot(pm_);
+      drift_start_.resize(nv);
+      if (tree.floating()) drift_start_.head<6>() = tree_math::vec(state.omega_0);
+      drift_start_.tail(n) = state.v;
+      pm_.noalias() = M_ * drift_start_;
+      T_ = 0.5 * drift_start_.dot(pm_);
     } else {
       T_ = kineticEnergy(tree, kin_);
       momentumAndGradient(tree, kin_, zero_moments(tree), pm_, nullptr, work_);
@@ -224,7 +224,7 @@ inline bool Midpoint::substep(const ArticulatedBody& tree, const TreeLoads& load
   // the closer start (the iteration converges to the same root from either).
   const bool drift_warm =
       hinted && !extrapolated && drift_offset_valid_ && h == drift_h_ && drift_offset_.size() == nv;
-  if (hinted) drift_start_ = nu_bar_;
+  if (hinted && !hinted_mass) drift_start_ = nu_bar_;  // (with the hint's M: made above)
   if (drift_warm) nu_bar_ += drift_offset_;
   drift_offset_valid_ = false;  // until this step converges from its hint
   // M's own factor at the start serves as the iteration's matrix only without damping and

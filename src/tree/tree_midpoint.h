@@ -142,10 +142,10 @@ class Midpoint final : public TreeIntegrator {
   // startFrom(): kin_ (and with hint_mass_ M_) belong to hint_state_, until a substep starts
   TreeState hint_state_;
   bool start_hint_ = false, hint_mass_ = false;
-  // A contact step's drift (a step from a hint): its ν at the start, and ν̄ − ν of the last
-  // such step of h that converged (kept through reset(): a starting guess only).
+  // A contact step's drift (a step from a hint): its ν at the start (with the hint's M, also
+  // the factor of its momenta M ν), and ν̄ − ν of the last such step of h that converged (kept
+  // through reset(): a starting guess only).
   Eigen::VectorXd drift_start_, drift_offset_;
-  Eigen::VectorXd nu_start_;  // ν at a hinted step's start (its momenta from the hint's M)
   double drift_h_ = 0.0;
   bool drift_offset_valid_ = false;
   static constexpr int kMaxDegree = 7;
