@@ -127,6 +127,18 @@ inline void placeShape(const Model& model, const Data& data, CollisionCache& cac
   cache.centre_W[s] = cache.pose_W[s] * cs.centre_S;
 }
 
+/// Reduces the points of a contact patch with the plane (world, normal +z; each with its
+/// vertex, in vertex order) to at most four, in a deterministic way: a deepest; the one farthest
+/// from it across the plane; the one that makes the largest triangle with those two; the one
+/// that adds the most area to that triangle. The four span the patch, so a body resting on them
+/// is held as on the whole patch. Near-ties go to the first point in vertex order, the deepest
+/// among points within 5e-6 m of each other's depth included (a tenth of the solver's slop): a
+/// mesh's flat sole resting on the plane has a dozen vertices level to a micrometre, and which
+/// is lowest by 1e-10 m changes with every step's rocking; taking it would change the four from
+/// step to step, and with them the rows whose impulses the next step starts from
+/// (doc/contacts.md#a-patch-on-the-plane). contact_ground_plane.cc.
+void reducePatch(std::vector<std::pair<Eigen::Vector3d, int>>& points);
+
 /// Appends the contacts of shapes [first, last) with the ground plane, at their placed poses;
 /// `fixed_margin` < 0: each body's travel over the step is its speculative margin. `asleep` as
 /// for detectContacts (contact_ground_plane.cc).

@@ -12,6 +12,46 @@
 namespace cga_rigid_sim {
 namespace sim {
 namespace detail {
+
+// Points of a patch whose depths differ by less than this (m) are equally deep for the choice
+// below: a tenth of the overlap the solver leaves uncorrected (SolverSettings::slop, 5e-5 m), so
+// the four chosen may miss the deepest point by no more than that.
+constexpr double kLevelTolerance = 5e-6;
+// A maximum within this fraction of the best so far is a tie, kept by the first point.
+constexpr double kTieFraction = 1e-6;
+
+void reducePatch(std::vector<std::pair<Eigen::Vector3d, int>>& points) {
+  const std::size_t n = points.size();
+  if (n <= 4) return;
+  const auto xy = [&points](std::size_t k) { return Eigen::Vector2d(points[k].first.head<2>()); };
+  const auto area = [&](std::size_t a, std::size_t b, std::size_t c) {  // twice the triangle's
+    const Eigen::Vector2d u = xy(b) - xy(a), w = xy(c) - xy(a);
+    return std::abs(u.x() * w.y() - u.y() * w.x());
+  };
+  // The first of the points, in vertex order, that beats `best` by more than a tie.
+  const auto argmax = [n](const auto& value) {
+    double best = -1.0;
+    std::size_t pick = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (const double v = value(k); v > best + kTieFraction * std::abs(best)) best = v, pick = k;
+    return pick;
+  };
+  std::size_t pick[4] = {0, 0, 0, 0};
+  double lowest = points[0].first.z();
+  for (std::size_t k = 1; k < n; ++k) lowest = std::min(lowest, points[k].first.z());
+  while (points[pick[0]].first.z() > lowest + kLevelTolerance) ++pick[0];
+  pick[1] = argmax([&](std::size_t k) { return (xy(k) - xy(pick[0])).squaredNorm(); });
+  pick[2] = argmax([&](std::size_t k) { return area(pick[0], pick[1], k); });
+  const double base = area(pick[0], pick[1], pick[2]);
+  pick[3] = argmax([&](std::size_t k) {
+    return area(pick[0], pick[1], k) + area(pick[1], pick[2], k) + area(pick[2], pick[0], k) - base;
+  });
+  std::sort(pick, pick + 4);  // in vertex order, as detection reports them
+  const std::size_t count = std::unique(pick, pick + 4) - pick;
+  for (std::size_t k = 0; k < count; ++k) points[k] = points[pick[k]];
+  points.resize(count);
+}
+
 namespace {
 
 using Shape = scene::CollisionShape;
@@ -39,40 +79,6 @@ double bodyMargin(const Model& model, const Data& data, const CollisionCache& ca
                                 other.centre_S.norm() + other.bound);
   }
   return travel(model, data, i, reach);
-}
-
-// Reduces points of a contact patch with the plane (world, normal +z) to at most four, in a
-// deterministic way: the deepest; the one farthest from it across the plane; the one that makes
-// the largest triangle with those two; the one that adds the most area to that triangle. The
-// four span the patch, so a body resting on them is held as on the whole patch.
-void reducePatch(std::vector<std::pair<Eigen::Vector3d, int>>& points) {
-  const std::size_t n = points.size();
-  if (n <= 4) return;
-  const auto xy = [&points](std::size_t k) { return Eigen::Vector2d(points[k].first.head<2>()); };
-  const auto area = [&](std::size_t a, std::size_t b, std::size_t c) {  // twice the triangle's
-    const Eigen::Vector2d u = xy(b) - xy(a), w = xy(c) - xy(a);
-    return std::abs(u.x() * w.y() - u.y() * w.x());
-  };
-  std::size_t pick[4] = {0, 0, 0, 0};
-  for (std::size_t k = 1; k < n; ++k)
-    if (points[k].first.z() < points[pick[0]].first.z()) pick[0] = k;
-  double best = -1.0;
-  for (std::size_t k = 0; k < n; ++k)
-    if (const double d = (xy(k) - xy(pick[0])).squaredNorm(); d > best) best = d, pick[1] = k;
-  best = -1.0;
-  for (std::size_t k = 0; k < n; ++k)
-    if (const double a = area(pick[0], pick[1], k); a > best) best = a, pick[2] = k;
-  best = -1.0;
-  const double base = area(pick[0], pick[1], pick[2]);
-  for (std::size_t k = 0; k < n; ++k)
-    if (const double gain = area(pick[0], pick[1], k) + area(pick[1], pick[2], k) +
-                            area(pick[2], pick[0], k) - base;
-        gain > best)
-      best = gain, pick[3] = k;
-  std::sort(pick, pick + 4);  // in vertex order, as detection reports them
-  const std::size_t count = std::unique(pick, pick + 4) - pick;
-  for (std::size_t k = 0; k < count; ++k) points[k] = points[pick[k]];
-  points.resize(count);
 }
 
 // The rims of a cylinder at pose X: the lowest point of each, and four fixed points of each
