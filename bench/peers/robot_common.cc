@@ -40,8 +40,9 @@ void usage(const char* program, const std::string& engine) {
       "  --configs a,b   only these configs\n"
       "  --reps R        timing repetitions, median reported (default 3)\n"
       "  --starts K      perturbed starts of a contact case: start k lowers the ground plane by\n"
-      "                  k*DZ; the CSV reports the mean over the starts, DIR/robots_%s_starts.csv\n"
-      "                  each start (default 1: the case as written, no second CSV)\n"
+      "                  k*DZ; the CSV reports the mean over the starts, a second CSV (its name\n"
+      "                  with _starts, default DIR/robots_%s_starts.csv) each start\n"
+      "                  (default 1: the case as written, no second CSV)\n"
       "  --start-shift DZ  metres the plane drops from one start to the next (default 3e-4)\n"
       "  --list          list configs and exit\n",
       slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str(), engine.c_str());
