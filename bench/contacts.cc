@@ -24,7 +24,12 @@
 // `auto` (the defaults, contact sleeping on) and, for contact cases, `auto_awake` (contact
 // sleeping off: every body in contact solved every step, as the peers do). The pairs our World
 // lets collide are written to bench/out/robot_pairs_<case>.txt for the peers' `our_pairs`.
-// Output: bench/out/robots_cga_rigid_sim.csv.
+// --starts K --start-shift DZ (the driver's, the same in the peers): start k of a contact case
+// lowers the plane by k·DZ, so that K landings are averaged instead of one chaotic one; the
+// observations of a start include whether the robot sleeps at a phase's end (every tree
+// asleep: `auto` only, `auto_awake` never sleeps and is the config to set against the peers,
+// which do not sleep either).
+// Output: bench/out/robots_cga_rigid_sim.csv, with K > 1 also robots_cga_rigid_sim_starts.csv.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -42,6 +47,7 @@
 #include "cga_rigid_sim/contact/contact.h"
 #include "cga_rigid_sim/scene/scene.h"
 #include "cga_rigid_sim/scene/urdf/urdf_loader.h"
+#include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "contact_common.h"
 #include "robot_common.h"
@@ -201,10 +207,16 @@ class CgaRobotSim : public ::bench::robots::RobotSim {
       if (k.body_b != sim::kGroundPlaneName) ++self;
       if (k.depth > depth) depth = k.depth, deepest = k.link_a + "/" + k.link_b;
     }
+    o.max_depth = depth;
+    o.energy = energy() - e0_;
+    // Every tree asleep (one robot: one tree); data().trees is read outside the timed steps.
+    const std::vector<sim::TreeData>& trees = world_->data().trees;
+    o.asleep = !trees.empty() && std::all_of(trees.begin(), trees.end(),
+                                             [](const sim::TreeData& t) { return t.asleep; });
     char b[300];
     std::snprintf(b, sizeof b,
                   "self %d; max depth %.3g m (%s); energy balance %.3g J (dissipated %.4g J)", self,
-                  depth, deepest.c_str(), energy() - e0_, m.back().dissipated_energy);
+                  depth, deepest.c_str(), o.energy, m.back().dissipated_energy);
     o.note = b;
     if (world_->treeFaultCount() > 0)
       o.note += "; " + std::to_string(world_->treeFaultCount()) +

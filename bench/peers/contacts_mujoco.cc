@@ -51,6 +51,8 @@
 //                    geoms that our World does not let collide (bench/out/robot_pairs_<case>.txt,
 //                    written by `bench_contacts --robots`; skipped when absent), so both
 //                    engines test the same pairs.
+// --starts K --start-shift DZ: the driver's perturbed starts (robot_common.h), the floor geom
+// at the shifted case's height, as ours.
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -250,8 +252,10 @@ class MujocoRobotSim : public bench::robots::RobotSim {
       }
     }
     mj_deleteData(d);
+    o.max_depth = depth;
+    o.energy = e - e0_;  // MuJoCo 2.2 has no sleeping: o.asleep stays -1
     o.note = fmt("self %d; max depth %.3g m (%s); energy change %.4g J", self, depth,
-                 deepest.c_str(), e - e0_);
+                 deepest.c_str(), o.energy);
     if (d_->warning[mjWARN_CONTACTFULL].number) o.note += "; CONTACTFULL";
     if (d_->warning[mjWARN_CNSTRFULL].number) o.note += "; CNSTRFULL";
     if (d_->warning[mjWARN_BADQACC].number) o.note += "; BADQACC(reset)";

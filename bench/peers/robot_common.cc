@@ -39,8 +39,13 @@ void usage(const char* program, const std::string& engine) {
       "  --cases a,b     only these cases (atlas_fall, humanoid_fall, kr5_swing, wam_swing)\n"
       "  --configs a,b   only these configs\n"
       "  --reps R        timing repetitions, median reported (default 3)\n"
+      "  --starts K      perturbed starts of a contact case: start k lowers the ground plane by\n"
+      "                  k*DZ; the CSV reports the mean over the starts, a second CSV (its name\n"
+      "                  with _starts, default DIR/robots_%s_starts.csv) each start\n"
+      "                  (default 1: the case as written, no second CSV)\n"
+      "  --start-shift DZ  metres the plane drops from one start to the next (default 3e-4)\n"
       "  --list          list configs and exit\n",
-      slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str());
+      slash ? slash + 1 : program, BENCH_OUT_DIR, engine.c_str(), engine.c_str());
 }
 
 std::string readText(const std::string& path) {
@@ -178,6 +183,39 @@ std::string g5(double v) {
   return b;
 }
 
+// One start's figures for one phase: the medians over the repetitions and the first
+// repetition's observations.
+struct StartPhase {
+  double cpu = NAN, wall = NAN;
+  RobotObs obs;
+  bool observed = false;
+};
+
+// The line a child writes per phase (timings, observations, a tab, the note) and its reading.
+std::string phaseLine(double cpu_ms, double wall_ms, const RobotObs& o) {
+  std::ostringstream os;
+  os.precision(17);
+  os << cpu_ms << " " << wall_ms << " " << o.root_z << " " << o.kinetic << " " << o.contacts << " "
+     << o.max_depth << " " << o.energy << " " << o.asleep << "\t" << sweep::csvSafe(o.note) << "\n";
+  return os.str();
+}
+
+void readPhaseLine(const std::string& line, double* cpu, double* wall, RobotObs* o) {
+  std::sscanf(line.c_str(), "%lf %lf %lf %lf %d %lf %lf %d", cpu, wall, &o->root_z, &o->kinetic,
+              &o->contacts, &o->max_depth, &o->energy, &o->asleep);
+  const size_t tab = line.find('\t');
+  o->note = tab == std::string::npos ? "" : line.substr(tab + 1);
+}
+
+// DIR/name.csv -> DIR/name_starts.csv.
+std::string startsCsvPath(const std::string& csv_path) {
+  const std::string ext = ".csv";
+  if (csv_path.size() > ext.size() &&
+      csv_path.compare(csv_path.size() - ext.size(), ext.size(), ext) == 0)
+    return csv_path.substr(0, csv_path.size() - ext.size()) + "_starts.csv";
+  return csv_path + "_starts.csv";
+}
+
 }  // namespace
 
 std::string pairsFile(const PreparedRobot& p, const RobotCase& c) {
@@ -194,7 +232,8 @@ int runRobotSweep(const std::string& engine, const std::string& version,
                   const std::vector<RobotConfig>& configs, int argc, char** argv) {
   std::string out_dir = BENCH_OUT_DIR, csv_path;
   std::vector<std::string> case_filter, config_filter;
-  int reps = 3;
+  int reps = 3, starts = 1;
+  double start_shift = 3e-4;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -215,7 +254,15 @@ int runRobotSweep(const std::string& engine, const std::string& version,
       config_filter = splitList(next());
     else if (a == "--reps")
       reps = std::max(1, std::atoi(next().c_str()));
-    else if (a == "--list") {
+    else if (a == "--starts")
+      starts = std::max(1, std::atoi(next().c_str()));
+    else if (a == "--start-shift") {
+      start_shift = std::atof(next().c_str());
+      if (!std::isfinite(start_shift) || start_shift < 0) {
+        std::fprintf(stderr, "--start-shift wants a distance >= 0 in metres\n");
+        return 2;
+      }
+    } else if (a == "--list") {
       for (const RobotConfig& c : configs) std::printf("%s\n", c.name.c_str());
       return 0;
     } else {
@@ -233,7 +280,25 @@ int runRobotSweep(const std::string& engine, const std::string& version,
   std::fprintf(csv,
                "engine,config,case,phase,t_start,t_end,h,cpu_ms_per_step,wall_ms_per_step,"
                "rtf_cpu,root_z,kinetic_J,contacts,notes\n");
-  std::fprintf(stderr, "[%s] %s -> %s\n", engine.c_str(), version.c_str(), csv_path.c_str());
+  FILE* starts_csv = nullptr;
+  if (starts > 1) {
+    const std::string path = startsCsvPath(csv_path);
+    starts_csv = std::fopen(path.c_str(), "w");
+    if (!starts_csv) {
+      std::fprintf(stderr, "cannot open %s\n", path.c_str());
+      std::fclose(csv);
+      return 2;
+    }
+    std::fprintf(starts_csv,
+                 "engine,config,case,phase,start,ground_z,t_start,t_end,h,cpu_ms_per_step,"
+                 "wall_ms_per_step,rtf_cpu,root_z,kinetic_J,contacts,max_depth_m,energy_J,asleep,"
+                 "notes\n");
+    std::fprintf(stderr, "[%s] %s -> %s, %s (%d starts, the plane lowered by %g m a start)\n",
+                 engine.c_str(), version.c_str(), csv_path.c_str(), path.c_str(), starts,
+                 start_shift);
+  } else {
+    std::fprintf(stderr, "[%s] %s -> %s\n", engine.c_str(), version.c_str(), csv_path.c_str());
+  }
 
   for (const RobotCase& c : allRobotCases()) {
     if (!selected(case_filter, c.name)) continue;
@@ -248,75 +313,155 @@ int runRobotSweep(const std::string& engine, const std::string& version,
     std::vector<long> steps(np);
     for (size_t k = 0; k < np; ++k)
       steps[k] = std::lround((c.phase_ends[k] - (k ? c.phase_ends[k - 1] : 0.0)) / c.h);
+    // The starts: the case with its plane lowered by s·start_shift (contact cases only).
+    const int case_starts = c.contacts ? starts : 1;
+    std::vector<RobotCase> shifted(case_starts, c);
+    for (int s = 0; s < case_starts; ++s) shifted[s].ground_z = c.ground_z - s * start_shift;
     for (const RobotConfig& cfg : configs) {
       if (!selected(config_filter, cfg.name) || !cfg.applies(c)) continue;
-      // Per phase: CPU and wall times of every repetition; observations of the first.
-      std::vector<std::vector<double>> cpu(np), wall(np);
-      std::vector<std::string> obs(np);
-      bool crashed = false;
-      for (int r = 0; r < reps && !crashed; ++r) {
-        std::string text;
-        const bool ok = runIsolated(
-            [&]() {
-              std::unique_ptr<RobotSim> sim = cfg.make(c, prepared);
-              std::ostringstream os;
-              os.precision(17);
-              for (size_t k = 0; k < np; ++k) {
-                const double c0 = threadCpuSeconds();
-                const auto t0 = std::chrono::steady_clock::now();
-                sim->step(steps[k]);
-                const auto t1 = std::chrono::steady_clock::now();
-                const double c1 = threadCpuSeconds();
-                const RobotObs o = sim->observe();
-                os << (c1 - c0) * 1e3 / double(steps[k]) << " "
-                   << std::chrono::duration<double, std::milli>(t1 - t0).count() / double(steps[k])
-                   << " " << o.root_z << " " << o.kinetic << " " << o.contacts << "\t"
-                   << sweep::csvSafe(o.note) << "\n";
-              }
-              return os.str();
-            },
-            &text);
-        if (!ok) {
-          crashed = true;
-          break;
+      // Per start and phase: CPU and wall times of every repetition; observations of the first.
+      std::vector<std::vector<std::vector<double>>> cpu(case_starts,
+                                                        std::vector<std::vector<double>>(np)),
+          wall = cpu;
+      std::vector<std::vector<StartPhase>> result(case_starts, std::vector<StartPhase>(np));
+      std::vector<bool> crashed(case_starts, false);
+      for (int r = 0; r < reps; ++r)
+        for (int s = 0; s < case_starts; ++s) {
+          if (crashed[s]) continue;
+          const RobotCase& cs = shifted[s];
+          std::string text;
+          const bool ok = runIsolated(
+              [&]() {
+                std::unique_ptr<RobotSim> sim = cfg.make(cs, prepared);
+                std::string lines;
+                for (size_t k = 0; k < np; ++k) {
+                  const double c0 = threadCpuSeconds();
+                  const auto t0 = std::chrono::steady_clock::now();
+                  sim->step(steps[k]);
+                  const auto t1 = std::chrono::steady_clock::now();
+                  const double c1 = threadCpuSeconds();
+                  lines += phaseLine(
+                      (c1 - c0) * 1e3 / double(steps[k]),
+                      std::chrono::duration<double, std::milli>(t1 - t0).count() / double(steps[k]),
+                      sim->observe());
+                }
+                return lines;
+              },
+              &text);
+          if (!ok) {
+            crashed[s] = true;
+            continue;
+          }
+          std::istringstream is(text);
+          for (size_t k = 0; k < np; ++k) {
+            std::string line;
+            std::getline(is, line);
+            double cp = NAN, wl = NAN;
+            RobotObs o;
+            readPhaseLine(line, &cp, &wl, &o);
+            cpu[s][k].push_back(cp);
+            wall[s][k].push_back(wl);
+            if (!result[s][k].observed) {
+              result[s][k].obs = o;
+              result[s][k].observed = true;
+            }
+          }
         }
-        std::istringstream is(text);
+      for (int s = 0; s < case_starts; ++s)
         for (size_t k = 0; k < np; ++k) {
-          std::string line;
-          std::getline(is, line);
-          double cp = NAN, wl = NAN;
-          std::sscanf(line.c_str(), "%lf %lf", &cp, &wl);
-          cpu[k].push_back(cp);
-          wall[k].push_back(wl);
-          if (r == 0) obs[k] = line;
+          result[s][k].cpu = median(cpu[s][k]);
+          result[s][k].wall = median(wall[s][k]);
         }
-      }
       for (size_t k = 0; k < np; ++k) {
         const double t0 = k ? c.phase_ends[k - 1] : 0.0, t1 = c.phase_ends[k];
-        const double cp = median(cpu[k]), wl = median(wall[k]);
+        // Each start's row (K > 1) and its line.
+        for (int s = 0; s < case_starts && case_starts > 1; ++s) {
+          const StartPhase& sp = result[s][k];
+          std::string note = crashed[s] ? "crashed (run aborted or threw) " : "";
+          note += sp.obs.note;
+          const RobotObs& o = sp.obs;
+          const int ncon = sp.observed ? o.contacts : -1;
+          const double z = sp.observed ? o.root_z : NAN, ke = sp.observed ? o.kinetic : NAN;
+          std::fprintf(starts_csv,
+                       "%s,%s,%s,%s,%d,%.9g,%g,%g,%g,%.6g,%.6g,%.4g,%.6g,%.6g,%d,%.4g,%.6g,%d,%s\n",
+                       engine.c_str(), cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(),
+                       s, shifted[s].ground_z, t0, t1, c.h, sp.cpu, sp.wall, c.h * 1e3 / sp.cpu, z,
+                       ke, ncon, o.max_depth, o.energy, o.asleep, sweep::csvSafe(note).c_str());
+          std::fflush(starts_csv);
+          std::fprintf(stderr,
+                       "[%s] %-12s %-10s %-6s start %d (plane %.6g): %8.4f ms/step cpu (%8.4f "
+                       "wall)  root z %-9s KE %-9s contacts %d  %s\n",
+                       engine.c_str(), cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(),
+                       s, shifted[s].ground_z, sp.cpu, sp.wall, g5(z).c_str(), g5(ke).c_str(), ncon,
+                       note.c_str());
+        }
+        // The (config, case, phase) row: start 0 alone, or the mean over the starts that ran.
+        const StartPhase& first = result[0][k];
+        double cp = first.cpu, wl = first.wall;
+        std::string note = crashed[0] ? "crashed (run aborted or threw)" : "";
+        if (case_starts > 1) {
+          double cpu_sum = 0, wall_sum = 0, cpu_min = INFINITY, cpu_max = -INFINITY,
+                 wall_min = INFINITY, wall_max = -INFINITY;
+          int ran = 0, asleep = 0, sleep_known = 0;
+          for (int s = 0; s < case_starts; ++s) {
+            const StartPhase& sp = result[s][k];
+            if (crashed[s] || !std::isfinite(sp.cpu)) continue;
+            ++ran;
+            cpu_sum += sp.cpu, wall_sum += sp.wall;
+            cpu_min = std::min(cpu_min, sp.cpu), cpu_max = std::max(cpu_max, sp.cpu);
+            wall_min = std::min(wall_min, sp.wall), wall_max = std::max(wall_max, sp.wall);
+            if (sp.obs.asleep >= 0) ++sleep_known, asleep += sp.obs.asleep;
+          }
+          cp = ran ? cpu_sum / ran : NAN;
+          wl = ran ? wall_sum / ran : NAN;
+          char b[400];
+          std::snprintf(b, sizeof b,
+                        "mean of %d starts (plane lowered 0 to %.3g m); cpu [%.4g; %.4g]; "
+                        "wall [%.4g; %.4g] ms/step",
+                        ran, (case_starts - 1) * start_shift, cpu_min, cpu_max, wall_min, wall_max);
+          std::string summary = b;
+          if (ran < case_starts)
+            summary += "; " + std::to_string(case_starts - ran) + " starts crashed";
+          if (sleep_known > 0)
+            summary += "; asleep at the phase's end in " + std::to_string(asleep) + " of " +
+                       std::to_string(sleep_known);
+          note = summary + "; start 0: " + note;
+          const std::string sleeping = sleep_known > 0
+                                           ? "  asleep at the end in " + std::to_string(asleep) +
+                                                 " of " + std::to_string(sleep_known)
+                                           : "";
+          std::fprintf(stderr,
+                       "[%s] %-12s %-10s %-6s [%g, %g) s over %d starts: %8.4f ms/step cpu [%.4f, "
+                       "%.4f] (%8.4f wall [%.4f, %.4f])  RTF %s%s\n",
+                       engine.c_str(), cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(),
+                       t0, t1, ran, cp, cpu_min, cpu_max, wl, wall_min, wall_max,
+                       g5(c.h * 1e3 / cp).c_str(), sleeping.c_str());
+        } else if (starts > 1) {
+          note = "one start (no plane to lower); " + note;
+        }
         double z = NAN, ke = NAN;
         int ncon = -1;
-        std::string note = crashed ? "crashed (run aborted or threw)" : "";
-        if (!obs[k].empty()) {
-          std::sscanf(obs[k].c_str(), "%*f %*f %lf %lf %d", &z, &ke, &ncon);
-          const size_t tab = obs[k].find('\t');
-          if (tab != std::string::npos) note += obs[k].substr(tab + 1);
+        if (first.observed) {
+          z = first.obs.root_z, ke = first.obs.kinetic, ncon = first.obs.contacts;
+          note += first.obs.note;
         }
         std::fprintf(csv, "%s,%s,%s,%s,%g,%g,%g,%.6g,%.6g,%.4g,%.6g,%.6g,%d,%s\n", engine.c_str(),
                      cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(), t0, t1, c.h, cp,
                      wl, c.h * 1e3 / cp, z, ke, ncon, sweep::csvSafe(note).c_str());
         std::fflush(csv);
-        std::fprintf(stderr,
-                     "[%s] %-12s %-10s %-6s [%g, %g) s: %8.4f ms/step cpu (%8.4f wall)  RTF %-7s"
-                     "  root z %-9s KE %-9s contacts %d  %s\n",
-                     engine.c_str(), cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(), t0,
-                     t1, cp, wl, g5(c.h * 1e3 / cp).c_str(), g5(z).c_str(), g5(ke).c_str(), ncon,
-                     note.c_str());
+        if (case_starts == 1)
+          std::fprintf(stderr,
+                       "[%s] %-12s %-10s %-6s [%g, %g) s: %8.4f ms/step cpu (%8.4f wall)  RTF %-7s"
+                       "  root z %-9s KE %-9s contacts %d  %s\n",
+                       engine.c_str(), cfg.name.c_str(), c.name.c_str(), c.phase_names[k].c_str(),
+                       t0, t1, cp, wl, g5(c.h * 1e3 / cp).c_str(), g5(z).c_str(), g5(ke).c_str(),
+                       ncon, note.c_str());
       }
     }
     fs::remove_all(prepared.dir);
   }
   std::fclose(csv);
+  if (starts_csv) std::fclose(starts_csv);
   return 0;
 }
 
