@@ -257,8 +257,10 @@ int runRobotSweep(const std::string& engine, const std::string& version,
     else if (a == "--starts")
       starts = std::max(1, std::atoi(next().c_str()));
     else if (a == "--start-shift") {
-      start_shift = std::atof(next().c_str());
-      if (!std::isfinite(start_shift) || start_shift < 0) {
+      const std::string text = next();
+      char* end = nullptr;
+      start_shift = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(start_shift) || start_shift < 0) {
         std::fprintf(stderr, "--start-shift wants a distance >= 0 in metres\n");
         return 2;
       }
