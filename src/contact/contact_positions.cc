@@ -195,14 +195,19 @@ void solvePositions(const SolverSettings& st, std::vector<SolverBody>& bodies,
     b.pv.setZero();
     b.pw.setZero();
   }
-  if (detail::setBiases(st, rows) == 0.0) return;
+  // Nothing to correct where every overlap is within the slop, or passes it by no more than
+  // the onset (a resting contact settles a few nanometres past it: correcting that each step
+  // moves nothing that matters). An island with one overlap past the onset is corrected whole,
+  // each overlap beyond the slop by its part.
+  const double onset_bias = st.correction * st.correction_onset / st.h;
+  if (detail::setBiases(st, rows) <= onset_bias) return;
   std::fill(work.vel.begin(), work.vel.end(), SolverWork::Twist());  // responses, islands kept
   for (const SolverWork::Island& I : work.islands) {
     double island_bias = 0.0;
     detail::forRows(work, rows, I, [&](std::size_t, ContactRow& c) {
       island_bias = std::max(island_bias, c.bias);
     });
-    if (island_bias == 0.0) continue;
+    if (island_bias <= onset_bias) continue;
     // One tree alone with an overlap past the slop by more than kExactCorrectionExcess: solved
     // exactly (contact_resting_tree.h); smaller ones are swept, which is cheaper and enough.
     if (island_bias > st.correction * kExactCorrectionExcess / st.h &&

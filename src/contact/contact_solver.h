@@ -168,6 +168,10 @@ struct SolverSettings {
   double touching = 1e-9;    ///< gaps below this are contact, m
   double correction = 0.2;   ///< fraction of the overlap beyond slop removed per step
   int max_iterations = 100;  ///< Gauss–Seidel sweeps at most
+  /// An island's overlaps are corrected once one of them passes the slop by more than this, m
+  /// (then each by its part beyond the slop): a resting contact settles 1e-9–1e-7 m past the
+  /// slop, where a correction solved every step would move nothing that matters.
+  double correction_onset = 1e-6;
   /// … for an island with an articulated tree: Gauss–Seidel converges slowly where a tree's
   /// contacts and joint stops share its load through M(q), so the cap, not the tolerance, ends
   /// such a solve (a sweep is a projection that never adds energy: a stopped solve leaves
