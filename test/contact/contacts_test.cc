@@ -286,6 +286,32 @@ TEST(Contacts, BodiesStartingToOverlapAreReportedAndSeparatedWithoutEnergy) {
   EXPECT_EQ(momentumOf(*w, "total").kinetic_energy, 0.0);
 }
 
+// Truth (doc/contacts.md#solver, SolverSettings::correction_onset): an overlap is corrected once
+// it passes the 50 µm slop by more than 1 µm, then by 20 % of its part beyond the slop per step.
+// Two balls at rest in zero gravity, one contact, nothing else moving them: 0.5 µm past the slop
+// they stay exactly where they are; 20 µm past it one step removes 4 µm (a single row is solved
+// exactly by the sweep; round-off of the 0.2 m coordinates, ~1e-16 m, allowed as 1e-12).
+TEST(Contacts, OverlapIsCorrectedFromItsOnsetByAFifthPerStep) {
+  const double slop = 5e-5;
+  for (const double past : {0.5e-6, 20e-6}) {
+    const double depth = slop + past;
+    auto w = contactWorld(
+        makeScene({ball("a", 1.0, 0.1, {0, 0, 0}), ball("b", 1.0, 0.1, {0.2 - depth, 0, 0})}), 0.5,
+        0.0, 1e-3, false);
+    const Eigen::Vector3d a0 = stateNamed(*w, "a").com, b0 = stateNamed(*w, "b").com;
+    w->step(1);
+    const Eigen::Vector3d a1 = stateNamed(*w, "a").com, b1 = stateNamed(*w, "b").com;
+    const double depth1 = 0.2 - (b1 - a1).norm();
+    if (past < 1e-6) {
+      EXPECT_EQ(a1, a0);
+      EXPECT_EQ(b1, b0);
+    } else {
+      EXPECT_NEAR(depth1 - slop, 0.8 * past, 1e-12);
+    }
+    EXPECT_EQ(momentumOf(*w, "total").kinetic_energy, 0.0) << past;
+  }
+}
+
 // Sleeping (doc/contacts.md#sleeping). Truth: a stack of three boxes settles and then falls
 // asleep: once its contact points have moved slower than 1e-6 m/s for 0.2 s its velocities are
 // exactly zero, no contact is solved (no sweep), its contacts are still reported (4 corners per
