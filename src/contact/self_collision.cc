@@ -34,24 +34,30 @@ void SelfCollision::indexAllowed() {
     const std::size_t bit = pair_row_[a] + static_cast<std::size_t>(place_in_robot_[b]);
     pair_bits_[bit >> 6] |= std::uint64_t{1} << (bit & 63);
   };
-  for (const auto& [a, b] : allowed) {
+  for (const auto& [a, b] : allowed_) {
     set(a, b);
     set(b, a);
   }
+}
+
+void SelfCollision::setAllowed(std::vector<std::pair<int, int>> pairs) {
+  std::sort(pairs.begin(), pairs.end());
+  allowed_ = std::move(pairs);
+  indexAllowed();
 }
 
 void SelfCollision::eraseBodies(int first, int count) {
   robot_of_body.erase(robot_of_body.begin() + first, robot_of_body.begin() + first + count);
   const auto gone = [first, count](int x) { return x >= first && x < first + count; };
   const auto shift = [first, count](int x) { return x >= first + count ? x - count : x; };
-  allowed.erase(
-      std::remove_if(allowed.begin(), allowed.end(),
+  allowed_.erase(
+      std::remove_if(allowed_.begin(), allowed_.end(),
                      [&](const std::pair<int, int>& p) { return gone(p.first) || gone(p.second); }),
-      allowed.end());
+      allowed_.end());
   excluded.erase(std::remove_if(excluded.begin(), excluded.end(),
                                 [&](const Excluded& e) { return gone(e.a) || gone(e.b); }),
                  excluded.end());
-  for (auto& p : allowed) p = {shift(p.first), shift(p.second)};
+  for (auto& p : allowed_) p = {shift(p.first), shift(p.second)};
   for (auto& e : excluded) e.a = shift(e.a), e.b = shift(e.b);
   indexAllowed();
 }
@@ -62,8 +68,8 @@ void SelfCollision::appendRobot(const SelfCollision& robot, int first_body) {
   for (int r : robot_of_body) label = std::max(label, r + 1);
   for (std::size_t k = 0; k < robot.robot_of_body.size(); ++k)
     if (robot.robot_of_body[k] >= 0) robot_of_body[first_body + k] = label + robot.robot_of_body[k];
-  // Its pairs come after every pair here (their bodies do): `allowed` stays sorted.
-  for (const auto& [a, b] : robot.allowed) allowed.emplace_back(a + first_body, b + first_body);
+  // Its pairs come after every pair here (their bodies do): allowed_ stays sorted.
+  for (const auto& [a, b] : robot.allowed_) allowed_.emplace_back(a + first_body, b + first_body);
   for (Excluded e : robot.excluded) {
     e.a += first_body;
     e.b += first_body;
@@ -162,6 +168,7 @@ void compileSelfCollision(Model& model) {
     if (j.parent_body >= 0) joined.insert(ordered(j.parent_body, j.child_body));
   const SrdfPairs srdf = srdfPairs(model);
   const bool gazebo = model.scene.self_collision.hasGazebo();
+  std::vector<Pair> allowed;
   using Reason = SelfCollision::Reason;
   using Mode = scene::SelfCollisionMode;
   for (int a = 0; a < n; ++a) {
@@ -186,16 +193,16 @@ void compileSelfCollision(Model& model) {
       if (out)
         sc.excluded.push_back({a, b, *out, 0.0});
       else
-        sc.allowed.push_back(p);
+        allowed.push_back(p);
     }
   }
-  sc.indexAllowed();
+  sc.setAllowed(std::move(allowed));
 }
 
 void leaveOutInitialOverlaps(Model& model, const Data& data, CollisionCache& cache) {
   SelfCollision& sc = model.self_collision;
   using Pair = std::pair<int, int>;
-  if (sc.mode != scene::SelfCollisionMode::kAuto || sc.allowed.empty()) return;
+  if (sc.mode != scene::SelfCollisionMode::kAuto || sc.allowed().empty()) return;
   // auto: the allowed pairs that overlap at the initial configuration are left out (the rule
   // of MoveIt's setup assistant: their authors never meant them to touch).
   std::vector<Contact> found;
@@ -210,15 +217,14 @@ void leaveOutInitialOverlaps(Model& model, const Data& data, CollisionCache& cac
   }
   if (overlap.empty()) return;
   std::vector<Pair> kept;
-  for (const Pair& p : sc.allowed) {
+  for (const Pair& p : sc.allowed()) {
     const auto it = overlap.find(p);
     if (it == overlap.end())
       kept.push_back(p);
     else
       sc.excluded.push_back({p.first, p.second, SelfCollision::Reason::kOverlap, it->second});
   }
-  sc.allowed = std::move(kept);
-  sc.indexAllowed();
+  sc.setAllowed(std::move(kept));
   std::sort(sc.excluded.begin(), sc.excluded.end(),
             [](const SelfCollision::Excluded& x, const SelfCollision::Excluded& y) {
               return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
@@ -231,7 +237,7 @@ std::vector<std::string> selfCollisionSummary(const Model& model) {
   std::map<int, std::vector<Pair>> allowed_of;
   std::map<int, std::map<SelfCollision::Reason, std::vector<const SelfCollision::Excluded*>>>
       excluded_of;
-  for (const Pair& p : sc.allowed) allowed_of[sc.robot_of_body[p.first]].push_back(p);
+  for (const Pair& p : sc.allowed()) allowed_of[sc.robot_of_body[p.first]].push_back(p);
   for (const SelfCollision::Excluded& e : sc.excluded)
     excluded_of[sc.robot_of_body[e.a]][e.reason].push_back(&e);
   std::set<int> robots_seen;

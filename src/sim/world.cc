@@ -219,7 +219,7 @@ std::vector<std::string> World::selfCollisionSummary() const {
 std::vector<std::pair<std::string, std::string>> World::selfCollisionPairs() const {
   std::vector<std::pair<std::string, std::string>> out;
   const Model& m = impl_->model;
-  for (const auto& [a, b] : m.self_collision.allowed)
+  for (const auto& [a, b] : m.self_collision.allowed())
     out.emplace_back(m.scene.bodies[a].name, m.scene.bodies[b].name);
   return out;
 }

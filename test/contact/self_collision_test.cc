@@ -232,19 +232,19 @@ TEST(SelfCollision, PairMatrixAgreesWithTheAllowedList) {
     const SelfCollision& sc = w->model().self_collision;
     const int n = static_cast<int>(sc.robot_of_body.size());
     ASSERT_EQ(n, static_cast<int>(w->model().scene.bodies.size())) << when;
-    ASSERT_TRUE(std::is_sorted(sc.allowed.begin(), sc.allowed.end())) << when;
+    ASSERT_TRUE(std::is_sorted(sc.allowed().begin(), sc.allowed().end())) << when;
     int listed = 0;
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
         if (a == b) continue;
         const int ra = sc.robot_of_body[a];
-        const bool in_list = std::binary_search(sc.allowed.begin(), sc.allowed.end(),
+        const bool in_list = std::binary_search(sc.allowed().begin(), sc.allowed().end(),
                                                 std::make_pair(std::min(a, b), std::max(a, b)));
         const bool expected = ra < 0 || ra != sc.robot_of_body[b] || in_list;
         listed += in_list;
         EXPECT_EQ(sc.collides(a, b), expected) << when << ": bodies " << a << ", " << b;
       }
-    EXPECT_EQ(listed, 2 * static_cast<int>(sc.allowed.size())) << when;
+    EXPECT_EQ(listed, 2 * static_cast<int>(sc.allowed().size())) << when;
   };
   agrees("loaded");
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -32,8 +32,6 @@ struct SelfCollision {
   /// Per body j: its robot (bodies joined by joints, with the static body a fixed-base tree
   /// hangs on), −1 for a body no joint touches.
   std::vector<int> robot_of_body;
-  /// Pairs (a < b) of bodies of one robot, both with collision shapes, that are tested. Sorted.
-  std::vector<std::pair<int, int>> allowed;
   /// The other pairs of one robot's bodies with shapes, and why (in order of a, then b).
   std::vector<Excluded> excluded;
 
@@ -46,8 +44,12 @@ struct SelfCollision {
     const std::size_t bit = pair_row_[a] + static_cast<std::size_t>(place_in_robot_[b]);
     return (pair_bits_[bit >> 6] >> (bit & 63)) & 1u;
   }
-  /// Makes the pair matrix that collides() reads from robot_of_body and `allowed`; called by
-  /// whatever changes them (the mutators below, and the compilation of the rules).
+  /// Pairs (a < b) of bodies of one robot, both with collision shapes, that are tested. Sorted.
+  const std::vector<std::pair<int, int>>& allowed() const { return allowed_; }
+  /// Sets them (sorted here) and makes the pair matrix that collides() reads.
+  void setAllowed(std::vector<std::pair<int, int>> pairs);
+  /// Makes the pair matrix that collides() reads from robot_of_body and allowed(); called by
+  /// whatever changes them (setAllowed, the mutators below; after robot_of_body changes).
   void indexAllowed();
   /// Body j removed (World::deleteBody): indices after it shift down. j is in no robot.
   void eraseBody(int j) { eraseBodies(j, 1); }
@@ -66,6 +68,7 @@ struct SelfCollision {
   void appendRobot(const SelfCollision& robot, int first_body);
 
  private:
+  std::vector<std::pair<int, int>> allowed_;  // kept with the pair matrix it is indexed into
   // The pair matrix: per robot a square matrix of bits over its bodies (in body order), set
   // where a pair is allowed (both ways round). Body a's row starts at bit pair_row_[a]; body
   // b's column is its place among its robot's bodies.
