@@ -421,17 +421,14 @@ int runRobotSweep(const std::string& engine, const std::string& version,
                         "mean of %d starts (plane lowered 0 to %.3g m); cpu [%.4g; %.4g]; "
                         "wall [%.4g; %.4g] ms/step",
                         ran, (case_starts - 1) * start_shift, cpu_min, cpu_max, wall_min, wall_max);
+          const std::string asleep_of =
+              std::to_string(asleep) + " of " + std::to_string(sleep_known);
           std::string summary = b;
           if (ran < case_starts)
             summary += "; " + std::to_string(case_starts - ran) + " starts crashed";
-          if (sleep_known > 0)
-            summary += "; asleep at the phase's end in " + std::to_string(asleep) + " of " +
-                       std::to_string(sleep_known);
+          if (sleep_known > 0) summary += "; asleep at the phase's end in " + asleep_of;
           note = summary + "; start 0: " + note;
-          const std::string sleeping = sleep_known > 0
-                                           ? "  asleep at the end in " + std::to_string(asleep) +
-                                                 " of " + std::to_string(sleep_known)
-                                           : "";
+          const std::string sleeping = sleep_known > 0 ? "  asleep at the end in " + asleep_of : "";
           std::fprintf(stderr,
                        "[%s] %-12s %-10s %-6s [%g, %g) s over %d starts: %8.4f ms/step cpu [%.4f, "
                        "%.4f] (%8.4f wall [%.4f, %.4f])  RTF %s%s\n",
