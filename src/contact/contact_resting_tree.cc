@@ -1,5 +1,5 @@
-// A resting tree's island solved by Newton's method (contact_resting_tree.h,
-// doc/contacts.md#resting-trees).
+// A tree's island solved by Newton's method (contact_resting_tree.h,
+// doc/contacts.md#resting-trees): at rest, its position correction, its normals after the sweeps.
 #include "contact/contact_resting_tree.h"
 
 #include <algorithm>
@@ -23,6 +23,8 @@ constexpr double kCompliance = 1e-6;
 constexpr int kMaxNewtonSteps = 30;
 constexpr int kMaxRounds = 10;
 constexpr double kNewtonTolerance = 1e-8;
+// Rounds of the normals' solve after the sweeps at most (polishTreeNormals).
+constexpr int kPolishRounds = 8;
 
 // The contact's relative point velocity per unit ν of tree t: J_a (side a on t) or −J_b.
 const Eigen::Matrix<double, 3, Eigen::Dynamic>& sideJacobian(const ContactRow& c, int t,
@@ -240,6 +242,136 @@ bool correctTreePositions(const SolverSettings& st, std::vector<SolverTree>& tre
   for (SolverTree::LimitRow& r : T.limits) {
     r.p_lower = std::isfinite(r.lower) ? N.single[j++].beta : 0.0;
     r.p_upper = std::isfinite(r.upper) ? -N.single[j++].beta : 0.0;
+  }
+  return true;
+}
+
+bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
+                       std::vector<ContactRow>& rows, SolverWork& work,
+                       const SolverWork::Island& I) {
+  if (st.resting_tree_speed <= 0 || I.trees != 1 || I.bodies != 0 || patchResistance(st.model) ||
+      st.model.compliant())
+    return false;
+  const int t = work.island_tree[I.first_tree];
+  SolverTree& T = trees[t];
+  SolverWork::RestingTree& R = work.resting_tree;
+  R.contacts.clear();
+  bool ok = true;
+  double sink = 0.0;  // the fastest approach past a contact's target the sweeps left
+  detail::forRows(work, rows, I, [&](std::size_t k, ContactRow& c) {
+    if (!ok) return;
+    ok = (c.ta == t) != (c.tb == t) && !c.compliant && c.impact == 0.0 && c.target_t.isZero(0.0);
+    sink = std::max(sink, c.target - c.n.dot(detail::treeVelocity<&SolverTree::nu>(trees, c)));
+    R.contacts.push_back(static_cast<int>(k));
+  });
+  if (!ok || !(sink > st.tree_sink_speed)) return false;
+  const int nv = static_cast<int>(T.nu.size());
+  const int m = static_cast<int>(R.contacts.size());
+  int s = 0;
+  for (const SolverTree::LimitRow& r : T.limits)
+    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  TreeNewton& N = R.newton;
+  N.resize(m, s, nv);
+  // The rows: each contact's normal, g ν ≥ target, from the sweeps' λ_n; the stops as in the
+  // resting solve, from the sweeps' impulses.
+  Eigen::VectorXd& held = R.held_friction;  // per contact its λ_t, held through a round
+  held.resize(2 * m);
+  for (int i = 0; i < m; ++i) {
+    const ContactRow& c = rows[R.contacts[i]];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    N.g.row(i).noalias() = sign * c.n.transpose() * J;
+    N.r[i] = c.target;
+    N.D[i] = 1.0 / (kCompliance * std::max(c.k_nn, 1e-300));
+    N.beta[i] = std::max(0.0, c.lambda_n);
+    held.segment<2>(2 * i) = c.lambda_t;
+  }
+  int j = 0;
+  for (const SolverTree::LimitRow& r : T.limits) {
+    const double D = T.M(r.index, r.index) / kCompliance;
+    if (std::isfinite(r.lower))
+      N.single[j++] = {r.index, 1.0, std::min(0.0, (r.lower - r.q) / st.h), D,
+                       std::max(0.0, r.y_lower)};
+    if (std::isfinite(r.upper))
+      N.single[j++] = {r.index, -1.0, std::min(0.0, (r.q - r.upper) / st.h), D,
+                       std::max(0.0, -r.y_upper)};
+  }
+  R.nu_warm = T.nu;
+  // Rounds: the normals and stops solved with the friction held, ν_f = ν_start + M⁻¹ Σ J_tᵀ λ_t;
+  // then the friction kept within μ λ_n of the new normals; again while that changed it.
+  for (int round = 0; round < kPolishRounds; ++round) {
+    R.dnu.setZero(nv);
+    for (int i = 0; i < m; ++i) {
+      const ContactRow& c = rows[R.contacts[i]];
+      double sign = 1;
+      const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+      R.dnu.noalias() += sign * J.transpose() * (held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
+    }
+    T.factor.solveInPlace(R.dnu);
+    R.nu_f = T.nu_start + R.dnu;
+    R.dnu.noalias() = N.g.topRows(m).transpose() * N.beta.head(m);
+    for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
+    T.factor.solveInPlace(R.dnu);
+    T.nu = R.nu_f + R.dnu;
+    if (N.solve(T.M, R.nu_f, T.nu, kNewtonTolerance, kMaxNewtonSteps, kMaxRounds) < 0) {
+      T.nu = R.nu_warm;
+      return false;
+    }
+    double clamped = 0.0;
+    for (int i = 0; i < m; ++i) {
+      const double tn = held.segment<2>(2 * i).norm(), tmax = rows[R.contacts[i]].mu * N.beta[i];
+      if (tn > tmax) {
+        clamped = std::max(clamped, tn - tmax);
+        held.segment<2>(2 * i) *= tmax / tn;
+      }
+    }
+    if (clamped == 0.0) break;
+  }
+  // ν from every impulse (the normals solved, the friction held, the stops), so that the
+  // tree's momentum changes by its contacts' impulses exactly.
+  R.dnu.setZero(nv);
+  for (int i = 0; i < m; ++i) {
+    const ContactRow& c = rows[R.contacts[i]];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    R.dnu.noalias() +=
+        sign * J.transpose() * (N.beta[i] * c.n + held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
+  }
+  for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
+  T.factor.solveInPlace(R.dnu);
+  R.nu_f = T.nu_start + R.dnu;
+  // It must leave no contact approaching faster than the sweeps did (friction still cut after
+  // the last round can: the sweeps' answer then stands).
+  double sink_after = 0.0;
+  for (int i = 0; i < m; ++i) {
+    const ContactRow& c = rows[R.contacts[i]];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    sink_after = std::max(sink_after, c.target - sign * c.n.dot(J * R.nu_f));
+  }
+  if (!(sink_after < sink)) {
+    T.nu = R.nu_warm;
+    return false;
+  }
+  // Not above the energy before the impulses (a projection onto a set holding ν = 0 cannot
+  // be; friction held from the sweeps and then clamped could): else the sweeps' answer stands.
+  R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu_start;
+  const double before = T.nu_start.dot(R.dnu);
+  R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * R.nu_f;
+  if (R.nu_f.dot(R.dnu) > before * (1 + 1e-9) + 1e-300) {
+    T.nu = R.nu_warm;
+    return false;
+  }
+  T.nu = R.nu_f;
+  for (int i = 0; i < m; ++i) {
+    ContactRow& c = rows[R.contacts[i]];
+    c.lambda_n = N.beta[i];
+    c.lambda_t = held.segment<2>(2 * i);
+  }
+  j = 0;
+  for (SolverTree::LimitRow& r : T.limits) {
+    if (std::isfinite(r.lower)) r.y_lower = N.single[j++].beta;
+    if (std::isfinite(r.upper)) r.y_upper = -N.single[j++].beta;
   }
   return true;
 }

@@ -1,4 +1,7 @@
-// A resting tree's island solved by Newton's method (doc/contacts.md#resting-trees): an island
+// A tree's island solved by Newton's method: at rest (doc/contacts.md#resting-trees), its
+// position correction, and its normals after the sweeps.
+//
+// A resting tree's island (doc/contacts.md#resting-trees): an island
 // of one articulated tree and nothing else that moves (its other sides are the ground and
 // static bodies), every contact point slower than SolverSettings::resting_tree_speed, no
 // impact, no compliant contact, no patch couples. Its contacts' friction is the pyramid with
@@ -33,6 +36,19 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
 bool correctTreePositions(const SolverSettings& st, std::vector<SolverTree>& trees,
                           std::vector<ContactRow>& rows, SolverWork& work,
                           const SolverWork::Island& I);
+
+/// After the sweeps of an island of one tree alone
+/// (doc/contacts.md#a-trees-normals-after-the-sweeps): when they stopped at their cap with a
+/// contact still approaching past its target faster than SolverSettings::tree_sink_speed, its
+/// normal and stop impulses are solved again by the same method with the sweeps' friction impulses
+/// held, in rounds while keeping that friction within μ λ_n of the new normals cuts it (eight
+/// at most). Sets the rows' λ_n and λ_t, the stops' y and the tree's ν from those impulses;
+/// false (nothing changed) when the island is not one for it, nothing sinks, a solve failed, or the
+/// answer would leave a contact approaching as fast as the sweeps did or raise the kinetic energy
+/// above the energy before the impulses.
+bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
+                       std::vector<ContactRow>& rows, SolverWork& work,
+                       const SolverWork::Island& I);
 
 }  // namespace sim
 }  // namespace cga_rigid_sim

@@ -82,7 +82,7 @@ struct SolverWork {
   struct RestingTree {
     TreeNewton newton;
     std::vector<int> contacts;
-    Eigen::VectorXd nu_warm, dnu;
+    Eigen::VectorXd nu_warm, dnu, nu_f, held_friction;
   };
   RestingTree resting_tree;
   /// The sweeps of an island with trees (doc/contacts.md#trees) move each tree's ν as

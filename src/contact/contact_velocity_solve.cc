@@ -243,6 +243,8 @@ int solveIsland(const SolverSettings& st, const std::vector<SolverBody>& bodies,
     }
     finishTreeSweeps(trees, work, I);
     sweeps += it;
+    // A tree's island the sweeps left sinking: its normals and stops solved again.
+    if (bounce && it == max_iterations) polishTreeNormals(st, trees, rows, work, I);
     if (energyGuardHolds(bodies, trees, rows, work, I)) break;
   }
   return sweeps;
