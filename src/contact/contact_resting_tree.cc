@@ -61,6 +61,41 @@ void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu
   T.nu = T.nu_start + dnu;
 }
 
+// The stops' rows of tree T: one per finite limit.
+int stopRowCount(const SolverTree& T) {
+  int s = 0;
+  for (const SolverTree::LimitRow& r : T.limits)
+    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  return s;
+}
+
+// The stops' rows: lower ≤ q + h ν_k ≤ upper, D = M_kk / ε (1/M_kk ≤ (M⁻¹)_kk: at least as
+// stiff), each started from its impulses `lower` and `upper` (the last step's, or the sweeps').
+// A joint already past a stop is held there (ν_k ≥ 0 away from it), as a contact's overlap is:
+// the position correction brings it back. So ν = 0 meets every row.
+void setStopRows(const SolverSettings& st, const SolverTree& T, double SolverTree::LimitRow::*lower,
+                 double SolverTree::LimitRow::*upper, TreeNewton& N) {
+  int j = 0;
+  for (const SolverTree::LimitRow& r : T.limits) {
+    const double D = T.M(r.index, r.index) / kCompliance;
+    if (std::isfinite(r.lower))
+      N.single[j++] = {r.index, 1.0, std::min(0.0, (r.lower - r.q) / st.h), D,
+                       std::max(0.0, r.*lower)};
+    if (std::isfinite(r.upper))
+      N.single[j++] = {r.index, -1.0, std::min(0.0, (r.q - r.upper) / st.h), D,
+                       std::max(0.0, -(r.*upper))};
+  }
+}
+
+// The stops' impulses from their rows, signed (y_lower ≥ 0, y_upper ≤ 0).
+void takeStopImpulses(const TreeNewton& N, SolverTree& T) {
+  int j = 0;
+  for (SolverTree::LimitRow& r : T.limits) {
+    r.y_lower = std::isfinite(r.lower) ? N.single[j++].beta : 0.0;
+    r.y_upper = std::isfinite(r.upper) ? -N.single[j++].beta : 0.0;
+  }
+}
+
 }  // namespace
 
 int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
@@ -76,9 +111,7 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
     R.contacts.push_back(static_cast<int>(k));
     m += c.mu > 0 ? 4 : 1;
   });
-  int s = 0;
-  for (const SolverTree::LimitRow& r : T.limits)
-    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  const int s = stopRowCount(T);
   TreeNewton& N = R.newton;
   N.resize(m, s, nv);
   // The contacts' rows: the normal, or the pyramid's four edges d = n ± μ t, each on d·u ≥
@@ -127,20 +160,9 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
       addRow(c.n);
     }
   }
-  // The stops: lower ≤ q + h ν_k ≤ upper, D = M_kk / ε (1/M_kk ≤ (M⁻¹)_kk: at least as stiff).
-  // A joint already past a stop is held there (ν_k ≥ 0 away from it), as a contact's overlap
-  // is: the position correction brings it back. So ν = 0 meets every row, the rows can all
-  // hold, and the solve never raises the energy (a projection onto a set holding 0).
-  int j = 0;
-  for (const SolverTree::LimitRow& r : T.limits) {
-    const double D = T.M(r.index, r.index) / kCompliance;
-    if (std::isfinite(r.lower))
-      N.single[j++] = {r.index, 1.0, std::min(0.0, (r.lower - r.q) / st.h), D,
-                       std::max(0.0, r.y_lower_last)};
-    if (std::isfinite(r.upper))
-      N.single[j++] = {r.index, -1.0, std::min(0.0, (r.q - r.upper) / st.h), D,
-                       std::max(0.0, -r.y_upper_last)};
-  }
+  // The stops, from the last step's impulses: ν = 0 meets every row, so the rows can all hold
+  // and the solve never raises the energy (a projection onto a set holding 0).
+  setStopRows(st, T, &SolverTree::LimitRow::y_lower_last, &SolverTree::LimitRow::y_upper_last, N);
   // The start: ν from the warm start's impulses, the stops' included (the sweeps' warm start
   // leaves them out), so that a tree at rest starts at its solution.
   R.nu_warm = T.nu;
@@ -179,11 +201,7 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
       c.lambda_t.setZero();
     }
   }
-  j = 0;
-  for (SolverTree::LimitRow& r : T.limits) {
-    r.y_lower = std::isfinite(r.lower) ? N.single[j++].beta : 0.0;
-    r.y_upper = std::isfinite(r.upper) ? -N.single[j++].beta : 0.0;
-  }
+  takeStopImpulses(N, T);
   return steps;
 }
 
@@ -203,9 +221,7 @@ bool correctTreePositions(const SolverSettings& st, std::vector<SolverTree>& tre
   });
   if (!ok) return false;
   const int m = static_cast<int>(R.contacts.size());
-  int s = 0;
-  for (const SolverTree::LimitRow& r : T.limits)
-    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  const int s = stopRowCount(T);
   TreeNewton& N = R.newton;
   N.resize(m, s, nv);
   // Each contact's normal: its bias where it overlaps beyond the slop, else not pushed in.
@@ -267,9 +283,7 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
   if (!ok || !(sink > st.tree_sink_speed)) return false;
   const int nv = static_cast<int>(T.nu.size());
   const int m = static_cast<int>(R.contacts.size());
-  int s = 0;
-  for (const SolverTree::LimitRow& r : T.limits)
-    s += (std::isfinite(r.lower) ? 1 : 0) + (std::isfinite(r.upper) ? 1 : 0);
+  const int s = stopRowCount(T);
   TreeNewton& N = R.newton;
   N.resize(m, s, nv);
   // The rows: each contact's normal, g ν ≥ target, from the sweeps' λ_n; the stops as in the
@@ -286,16 +300,7 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
     N.beta[i] = std::max(0.0, c.lambda_n);
     held.segment<2>(2 * i) = c.lambda_t;
   }
-  int j = 0;
-  for (const SolverTree::LimitRow& r : T.limits) {
-    const double D = T.M(r.index, r.index) / kCompliance;
-    if (std::isfinite(r.lower))
-      N.single[j++] = {r.index, 1.0, std::min(0.0, (r.lower - r.q) / st.h), D,
-                       std::max(0.0, r.y_lower)};
-    if (std::isfinite(r.upper))
-      N.single[j++] = {r.index, -1.0, std::min(0.0, (r.q - r.upper) / st.h), D,
-                       std::max(0.0, -r.y_upper)};
-  }
+  setStopRows(st, T, &SolverTree::LimitRow::y_lower, &SolverTree::LimitRow::y_upper, N);
   R.nu_warm = T.nu;
   // Rounds: the normals and stops solved with the friction held, ν_f = ν_start + M⁻¹ Σ J_tᵀ λ_t;
   // then the friction kept within μ λ_n of the new normals; again while that changed it.
@@ -368,11 +373,7 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
     c.lambda_n = N.beta[i];
     c.lambda_t = held.segment<2>(2 * i);
   }
-  j = 0;
-  for (SolverTree::LimitRow& r : T.limits) {
-    if (std::isfinite(r.lower)) r.y_lower = N.single[j++].beta;
-    if (std::isfinite(r.upper)) r.y_upper = -N.single[j++].beta;
-  }
+  takeStopImpulses(N, T);
   return true;
 }
 
