@@ -268,18 +268,23 @@ bool contactStepBroken(const Model& model, Data& data, int t, double booked, dou
 
 bool finishTreeContactStep(const Model& model, Data& data, int t) {
   TreeData& td = data.trees[t];
-  td.contact_end.valid = false;
-  // A floating tree's correction leaves M(q) at its end pose in split_M (correctTree).
-  const bool mass = !td.contact_shift.isZero(0.0) && model.trees[t].body.floating();
+  TreeData::ContactEnd& e = td.contact_end;  // (copies into storage of the same size)
+  e.valid = false;
+  // M(q) at the end pose: a floating tree's correction leaves it in split_M (correctTree);
+  // without a correction the end pose is the drift's, where its integrator may have made it
+  // (taken before the book resets the integrator).
+  const bool corrected = !td.contact_shift.isZero(0.0);
+  const Eigen::MatrixXd* drift_M = corrected ? nullptr : td.integrator->lastMass();
+  if (drift_M) e.M = *drift_M;
+  const bool mass = corrected ? model.trees[t].body.floating() : drift_M != nullptr;
   double T_end = 0.0;
   const double booked = correctAndBook(model, data, t, T_end);
   if (contactStepBroken(model, data, t, booked, T_end)) return false;
   data.dissipated_energy += booked;
   // What the next contact step's kick would make again if it starts from this state.
-  TreeData::ContactEnd& e = td.contact_end;  // (copies into storage of the same size)
   e.kin = data.tree_scratch.end_kin;
   e.has_mass = mass;
-  if (mass) e.M = data.tree_scratch.split_M;
+  if (mass && corrected) e.M = data.tree_scratch.split_M;
   e.state = td.state;
   e.valid = true;
   return true;

@@ -50,6 +50,10 @@ class Midpoint final : public TreeIntegrator {
   const TreeKinematics* lastExactKinematics() const override {
     return kin_at_state_ && kin_exact_ ? &kin_ : nullptr;
   }
+  // factorMass() at the end pose of an accepted step with a floating base: massMatrix on kin_.
+  const Eigen::MatrixXd* lastMass() const override {
+    return kin_at_state_ && kin_exact_ && mass_at_last_ ? &M_ : nullptr;
+  }
   const Eigen::VectorXd* lastEffort() const override { return servoed_ ? &effort_ : nullptr; }
 
   void step(const ArticulatedBody& tree, const TreeLoads& loads, double h,

@@ -90,6 +90,10 @@ class TreeIntegrator {
   /// midpoint's for a floating base; a fixed base's come from other formulas, equal to
   /// round-off), else null.
   virtual const TreeKinematics* lastExactKinematics() const { return nullptr; }
+  /// M(q) at the pose of lastExactKinematics(), as dynamics::massMatrix makes it from those
+  /// poses (to the bit), when the integrator made it there; else nullptr. Valid until the next
+  /// step.
+  virtual const Eigen::MatrixXd* lastMass() const { return nullptr; }
   /// The effort the joints' actuators applied in the last step when servos acted (effort plus
   /// servo, clamped: the midpoint's at the midpoint, rk4's the stages' weighted mean), else
   /// null (the loads' effort was applied as given).
