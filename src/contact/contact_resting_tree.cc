@@ -52,13 +52,24 @@ bool eligible(const SolverSettings& st, const std::vector<SolverTree>& trees,
   return ok;
 }
 
-// ν = ν_f + M⁻¹ Gᵀ β: the tree's velocity under the rows' impulses β (dnu: scratch).
-void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu) {
+// ν = ν_f + M⁻¹ Gᵀ β: the tree's velocity under the rows' impulses β from ν_f (by default the
+// velocity before the impulses; dnu: scratch).
+void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu,
+                        const Eigen::VectorXd* nu_f = nullptr) {
   dnu.noalias() = N.g.topRows(N.rows).transpose() * N.beta.head(N.rows);
   for (int q = 0; q < N.n_single; ++q)
     dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
   T.factor.solveInPlace(dnu);
-  T.nu = T.nu_start + dnu;
+  T.nu = (nu_f ? *nu_f : T.nu_start) + dnu;
+}
+
+// Whether velocity v has more kinetic energy than the tree had before the impulses (beyond the
+// products' round-off; Mv: scratch).
+bool raisesEnergy(const SolverTree& T, const Eigen::VectorXd& v, Eigen::VectorXd& Mv) {
+  Mv.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu_start;
+  const double before = T.nu_start.dot(Mv);
+  Mv.noalias() = T.M.selfadjointView<Eigen::Lower>() * v;
+  return v.dot(Mv) > before * (1 + 1e-9) + 1e-300;
 }
 
 // The stops' rows of tree T: one per finite limit.
@@ -175,13 +186,7 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
   // A solve that reached its minimiser never raises the kinetic energy (every target ≤ 0: a
   // projection in the metric of M onto a convex set holding ν = 0); one that did not is
   // refused, and the sweeps take the island.
-  if (steps >= 0) {
-    R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu_start;
-    const double before = T.nu_start.dot(R.dnu);
-    R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu;
-    const double after = T.nu.dot(R.dnu);
-    if (after > before * (1 + 1e-9) + 1e-300) steps = -1;
-  }
+  if (steps >= 0 && raisesEnergy(T, T.nu, R.dnu)) steps = -1;
   if (steps < 0) {
     T.nu = R.nu_warm;
     return -1;
@@ -288,8 +293,8 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
   N.resize(m, s, nv);
   // The rows: each contact's normal, g ν ≥ target, from the sweeps' λ_n; the stops as in the
   // resting solve, from the sweeps' impulses.
-  Eigen::VectorXd& held = R.held_friction;  // per contact its λ_t, held through a round
-  held.resize(2 * m);
+  Eigen::VectorXd& held = R.held_friction;      // per contact its λ_t, held through a round
+  if (held.size() < 2 * m) held.resize(2 * m);  // (grows only: no allocation in most steps)
   for (int i = 0; i < m; ++i) {
     const ContactRow& c = rows[R.contacts[i]];
     double sign = 1;
@@ -314,10 +319,7 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
     }
     T.factor.solveInPlace(R.dnu);
     R.nu_f = T.nu_start + R.dnu;
-    R.dnu.noalias() = N.g.topRows(m).transpose() * N.beta.head(m);
-    for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
-    T.factor.solveInPlace(R.dnu);
-    T.nu = R.nu_f + R.dnu;
+    velocityOfImpulses(T, N, R.dnu, &R.nu_f);
     if (N.solve(T.M, R.nu_f, T.nu, kNewtonTolerance, kMaxNewtonSteps, kMaxRounds) < 0) {
       T.nu = R.nu_warm;
       return false;
@@ -360,10 +362,7 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
   }
   // Not above the energy before the impulses (a projection onto a set holding ν = 0 cannot
   // be; friction held from the sweeps and then clamped could): else the sweeps' answer stands.
-  R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * T.nu_start;
-  const double before = T.nu_start.dot(R.dnu);
-  R.dnu.noalias() = T.M.selfadjointView<Eigen::Lower>() * R.nu_f;
-  if (R.nu_f.dot(R.dnu) > before * (1 + 1e-9) + 1e-300) {
+  if (raisesEnergy(T, R.nu_f, R.dnu)) {
     T.nu = R.nu_warm;
     return false;
   }
