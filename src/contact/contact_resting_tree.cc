@@ -23,6 +23,9 @@ constexpr double kCompliance = 1e-6;
 constexpr int kMaxNewtonSteps = 30;
 constexpr int kMaxRounds = 10;
 constexpr double kNewtonTolerance = 1e-8;
+// A warm start's edge below this fraction of its contact's λ_n is the rounding of λ_n, λ_t and
+// the share it was split from (a few ulps), not an impulse: zero, so that it starts inactive.
+constexpr double kSplitRounding = 1e-12;
 // Rounds of the normals' solve after the sweeps at most (polishTreeNormals).
 constexpr int kPolishRounds = 8;
 
@@ -109,6 +112,31 @@ void takeStopImpulses(const TreeNewton& N, SolverTree& T) {
 
 }  // namespace
 
+Eigen::Vector4d pyramidEdges(double lambda_n, const Eigen::Vector2d& lambda_t, double mu,
+                             double share) {
+  // The pair of edges along t_e carries s_e ≥ |λ_te| / μ of λ_n (s_1 + s_2 = λ_n), its two
+  // edges (s_e ± λ_te / μ) / 2. The last solve's s_1 keeps an edge it left at zero at zero,
+  // not loaded by a share of the slack, and so inactive: the Newton steps start at the last
+  // step's active rows, and its targets, shifted by the impulses, at the last step's
+  // (doc/decisions.md#a-resting-trees-warm-start). Friction outside the pyramid
+  // (|λ_t1| + |λ_t2| > μ λ_n: the tangents turned since) is scaled onto it.
+  const double ln = lambda_n;
+  double a = lambda_t[0] / mu, b = lambda_t[1] / mu;
+  const double l1 = std::abs(a) + std::abs(b);
+  if (l1 > ln) {
+    const double f = l1 > 0 ? ln / l1 : 0.0;
+    a *= f;
+    b *= f;
+  }
+  const double tiny = kSplitRounding * ln;
+  const double s1 = share >= std::abs(a) - tiny && share <= ln - std::abs(b) + tiny  // NaN: no
+                        ? std::clamp(share, std::abs(a), std::max(std::abs(a), ln - std::abs(b)))
+                        : std::abs(a) + 0.5 * std::max(0.0, ln - std::abs(a) - std::abs(b));
+  const double s2 = std::max(0.0, ln - s1);
+  const auto edge = [tiny](double x) { return x > tiny ? x : 0.0; };
+  return {edge(0.5 * (s1 + a)), edge(0.5 * (s1 - a)), edge(0.5 * (s2 + b)), edge(0.5 * (s2 - b))};
+}
+
 int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
                      std::vector<ContactRow>& rows, SolverWork& work, const SolverWork::Island& I) {
   if (!eligible(st, trees, rows, work, I)) return -1;
@@ -139,29 +167,14 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
       N.D[i] = 1.0 / (kCompliance * std::max(d.dot(K * d), 1e-300));
       ++i;
     };
-    // The warm start's impulses split onto the rows so that they give back the last step's
-    // λ_n and λ_t exactly (a resting tree then starts at its last answer): the pair of edges
-    // along t_e carries s_e ≥ |λ_te| / μ of λ_n (s_1 + s_2 = λ_n, the slack shared equally),
-    // its two edges (s_e ± λ_te / μ) / 2. Friction outside the pyramid (|λ_t1| + |λ_t2| >
-    // μ λ_n: the tangents turned since) is scaled onto it.
+    // The warm start: the last step's impulses on the rows, so that they give back its λ_n and
+    // λ_t (a resting tree then starts at its last answer), on a contact's edges as this solve
+    // left them (pyramidEdges).
     const double ln = std::max(0.0, c.lambda_n);
-    if (c.mu > 0) {
-      double a = c.lambda_t[0] / c.mu, b = c.lambda_t[1] / c.mu;
-      const double l1 = std::abs(a) + std::abs(b);
-      if (l1 > ln) {
-        const double f = l1 > 0 ? ln / l1 : 0.0;
-        a *= f;
-        b *= f;
-      }
-      const double s1 = std::abs(a) + 0.5 * std::max(0.0, ln - std::abs(a) - std::abs(b));
-      const double s2 = std::max(0.0, ln - s1);
-      N.beta[i] = std::max(0.0, 0.5 * (s1 + a));
-      N.beta[i + 1] = std::max(0.0, 0.5 * (s1 - a));
-      N.beta[i + 2] = std::max(0.0, 0.5 * (s2 + b));
-      N.beta[i + 3] = std::max(0.0, 0.5 * (s2 - b));
-    } else {
+    if (c.mu > 0)
+      N.beta.segment<4>(i) = pyramidEdges(ln, c.lambda_t, c.mu, c.pyramid_share);
+    else
       N.beta[i] = ln;
-    }
     if (c.mu > 0) {
       addRow(c.n + c.mu * c.t1);
       addRow(c.n - c.mu * c.t1);
@@ -200,6 +213,7 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
       const double* b = N.beta.data() + i;
       c.lambda_n = b[0] + b[1] + b[2] + b[3];
       c.lambda_t = {c.mu * (b[0] - b[1]), c.mu * (b[2] - b[3])};
+      c.pyramid_share = b[0] + b[1];
       i += 4;
     } else {
       c.lambda_n = N.beta[i++];

@@ -19,6 +19,16 @@
 namespace cga_rigid_sim {
 namespace sim {
 
+/// A contact's impulses λ_n ≥ 0 and λ_t = (λ_t1, λ_t2) on its friction pyramid's four edges
+/// n + μ t1, n − μ t1, n + μ t2, n − μ t2 (μ > 0), as the resting solve's warm start: their sum
+/// is λ_n and μ times their differences λ_t, exactly but for rounding. Four edges carry three
+/// impulses: `share`, the part of λ_n on the first two (ContactRow::pyramid_share), fixes the
+/// fourth number where it fits (|λ_t1| / μ ≤ share ≤ λ_n − |λ_t2| / μ, to rounding), else the
+/// slack λ_n − (|λ_t1| + |λ_t2|) / μ is shared equally (NaN: always). An edge below 1e-12 λ_n
+/// (rounding) is 0. Friction outside the pyramid is scaled onto its rim.
+Eigen::Vector4d pyramidEdges(double lambda_n, const Eigen::Vector2d& lambda_t, double mu,
+                             double share);
+
 /// Tries the Newton solve for island I: the rows' targets set, the tree's ν warm-started (its
 /// impulses of the last step applied). On success sets the rows' λ_n and λ_t (λ_n = Σ of its
 /// edges' impulses, λ_t = μ times their differences), the limit rows' y_lower and y_upper and

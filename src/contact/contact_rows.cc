@@ -92,9 +92,11 @@ void makeRows(const Model& /*model*/, Data& data, ContactScratch& S) {
     ContactRow& r = S.rows[k];
     r.lambda_n = 0.0;
     r.lambda_t.setZero();
+    r.pyramid_share = std::numeric_limits<double>::quiet_NaN();
     if (const Contact* p = previousOf(data, S, S.found[k])) {
       r.lambda_n = p->normal_impulse;
       r.lambda_t = {r.t1.dot(p->friction_impulse_W), r.t2.dot(p->friction_impulse_W)};
+      r.pyramid_share = p->pyramid_share;
     }
   }
 }

@@ -32,6 +32,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <limits>
 #include <vector>
 
 #include "cga_rigid_sim/contact/contact.h"
@@ -137,6 +138,9 @@ struct ContactRow {
   double impact = 0.0;  ///< −u_n before the solve when it is an impact, else 0
   double lambda_n = 0.0;
   Eigen::Vector2d lambda_t = Eigen::Vector2d::Zero();
+  /// Of lambda_n, the part on the friction pyramid's edges n ± μ t1 (the rest on n ± μ t2) in
+  /// a tree's resting solve (contact_resting_tree.cc), last step's on entry; NaN: unknown.
+  double pyramid_share = std::numeric_limits<double>::quiet_NaN();
   double lambda_p = 0.0;  ///< position correction's accumulated pseudo-impulse
   /// The contact model's patch couples (contact_patch.h), 0 when off: about n, about t1 and
   /// t2, and their sum in world axes (the angular impulse on a; b takes its opposite).

@@ -34,6 +34,7 @@ void reportContacts(Data& data, const ContactScratch& S) {
     const ContactRow& r = S.rows[k];
     data.contacts[k].normal_impulse = r.lambda_n;
     data.contacts[k].friction_impulse_W = r.lambda_t.x() * r.t1 + r.lambda_t.y() * r.t2;
+    data.contacts[k].pyramid_share = r.pyramid_share;
   }
   data.contacts.insert(data.contacts.end(), S.landed.begin(), S.landed.end());
 }

@@ -12,6 +12,7 @@
 #include "cga_rigid_sim/sim/data.h"
 #include "cga_rigid_sim/sim/world.h"
 #include "common/real_like_robots.h"
+#include "contact/contact_resting_tree.h"
 #include "contact/contact_tree_newton.h"
 
 namespace cga_rigid_sim {
@@ -53,6 +54,45 @@ TEST(TreeResting, NewtonSolvesRedundantRowsExactly) {
   EXPECT_NEAR(nu[1], 0.5, 1e-10);
   EXPECT_NEAR(S.single[0].beta, 2.0, 1e-9);
   EXPECT_NEAR(S.single[1].beta, 7.5, 1e-9);
+}
+
+// A contact's warm start on its friction pyramid's edges (pyramidEdges): from edges b (the
+// truth), λ_n = Σ b, λ_t = μ (b0 − b1, b2 − b3) and the share b0 + b1 it must give b back, to
+// the rounding of those sums (4e-16 λ_n each; 1e-14 λ_n asserted), and an edge that was 0
+// exactly 0 (it starts inactive). Cases: all four loaded with the slack split unequally; one
+// edge 0 with slack left on the other pair; sliding, one edge of each pair 0 (no slack); 0 by
+// rounding only (an edge of 1e-17 λ_n). Without the share (NaN), or with one that does not fit,
+// the slack is shared equally: s_1 − |λ_t1|/μ = s_2 − |λ_t2|/μ, and λ_n, λ_t are still given
+// back. Friction outside the pyramid is scaled onto its rim: λ_t's direction kept, its edges'
+// total μ λ_n.
+TEST(TreeResting, PyramidEdgesGiveBackTheEdgesTheyWereMadeFrom) {
+  const double mu = 0.7;
+  const std::vector<Eigen::Vector4d> cases = {
+      {0.3, 0.1, 0.45, 0.05}, {0.3, 0.0, 0.2, 0.15}, {0.4, 0.0, 0.0, 0.25}, {0.5, 1e-17, 0.2, 0.2}};
+  for (const Eigen::Vector4d& b : cases) {
+    const double ln = b.sum();
+    const Eigen::Vector2d lt(mu * (b[0] - b[1]), mu * (b[2] - b[3]));
+    const Eigen::Vector4d e = pyramidEdges(ln, lt, mu, b[0] + b[1]);
+    for (int k = 0; k < 4; ++k) {
+      if (b[k] < 1e-12 * ln)
+        EXPECT_EQ(e[k], 0.0) << b.transpose();
+      else
+        EXPECT_NEAR(e[k], b[k], 1e-14 * ln) << b.transpose();
+    }
+    for (const double share : {std::nan(""), -1.0, ln + 1.0}) {
+      const Eigen::Vector4d h = pyramidEdges(ln, lt, mu, share);
+      EXPECT_NEAR(h.sum(), ln, 1e-14 * ln);
+      EXPECT_NEAR(mu * (h[0] - h[1]), lt[0], 1e-14 * ln);
+      EXPECT_NEAR(mu * (h[2] - h[3]), lt[1], 1e-14 * ln);
+      EXPECT_NEAR(h[0] + h[1] - std::abs(lt[0]) / mu, h[2] + h[3] - std::abs(lt[1]) / mu,
+                  1e-14 * ln);
+    }
+  }
+  // λ_t twice the pyramid's rim: scaled by one half.
+  const Eigen::Vector4d e = pyramidEdges(1.0, Eigen::Vector2d(0.6 * mu, -1.4 * mu), mu, 0.5);
+  EXPECT_NEAR(e.sum(), 1.0, 1e-15);
+  EXPECT_NEAR(mu * (e[0] - e[1]), 0.3 * mu, 1e-15);
+  EXPECT_NEAR(mu * (e[2] - e[3]), -0.7 * mu, 1e-15);
 }
 
 // The Hessian's factor kept by rank-one updates as rows enter and leave the active set

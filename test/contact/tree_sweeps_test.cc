@@ -251,6 +251,75 @@ TEST(TreeSweeps, NormalsSolvedAgainWhereTheSweepsLeaveAContactSinking) {
   EXPECT_GE(held, sinking - 2);
 }
 
+// Newton's resting solve warm-started from its own answer to the same problem
+// (doc/contacts.md#resting-trees): the last step's impulses, each contact's split onto its
+// four friction edges as the solve left it (ContactRow::pyramid_share, pyramidEdges), start the
+// first round at that answer, so the solve factors its Hessian once, never updates it (the
+// first Newton step's active rows are the answer's) and ends at the same answer. The problems:
+// the trees above at a hundredth of their rates (some contacts stick), four contacts on each of
+// two links, a foot's corners (redundant rows), touching (no position correction). The answer
+// is the same to the solve's tolerance: rows within 1e-8 m/s of their targets, ν of ~1e-2 m/s;
+// 1e-6 of ν's scale bounds the difference (measured 4.9e-7). Started cold instead, every
+// problem takes updates (the test fails). This checks the start, not the split: on these
+// problems any split of the same impulses starts at the same active rows (the split's own test
+// is tree_resting_test's PyramidEdgesGiveBackTheEdgesTheyWereMadeFrom).
+TEST(TreeSweeps, RestingSolveWarmStartedFromItsAnswerStartsAtIt) {
+  std::mt19937 rng(41);
+  SolverSettings st;
+  st.resting_tree_speed = 1e9;  // Newton's solve at any speed
+  int solved = 0;
+  double worst = 0.0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Problem p = makeProblem(rng, true);
+    p.trees[0].nu *= 0.01;
+    const int feet[2] = {1 + trial % (kJoints - 1), kJoints - trial % (kJoints - 1)};
+    for (int k = 0; k < 8; ++k) {
+      p.slot_a[k] = feet[k / 4];
+      p.contacts[k].point_W = p.bodies[feet[k / 4]].x + testing::randomVector(rng, 0.1);
+      p.contacts[k].depth = 0.0;
+    }
+    {
+      std::vector<ContactRow> r;
+      prepareRows(p.contacts, p.bodies, p.trees, p.slot_a, p.slot_b, r);
+      // One normal per foot, against its first point's velocity: the four approach together.
+      for (int k = 0; k < 8; ++k)
+        p.contacts[k].normal_W = -(r[4 * (k / 4)].ja * p.trees[0].nu).normalized();
+    }
+    SolverTree& t = p.trees[0];
+    const Eigen::VectorXd nu0 = t.nu;
+    SolverWork work;
+    std::vector<ContactRow> first;
+    prepareRows(p.contacts, p.bodies, p.trees, p.slot_a, p.slot_b, first);
+    solveVelocities(st, p.bodies, p.trees, first, work);
+    // A refused solve (the sweeps' answer) leaves the shares unknown.
+    if (!std::all_of(first.begin(), first.end(),
+                     [](const ContactRow& c) { return std::isfinite(c.pyramid_share); }))
+      continue;
+    ++solved;
+    const Eigen::VectorXd answer = t.nu;
+    std::vector<ContactRow> rows;
+    prepareRows(p.contacts, p.bodies, p.trees, p.slot_a, p.slot_b, rows);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      rows[k].lambda_n = first[k].lambda_n;
+      rows[k].lambda_t = first[k].lambda_t;
+      rows[k].pyramid_share = first[k].pyramid_share;
+    }
+    for (SolverTree::LimitRow& r : t.limits) {
+      r.y_lower_last = r.y_lower;
+      r.y_upper_last = r.y_upper;
+    }
+    t.nu = nu0;
+    const TreeNewton& N = work.resting_tree.newton;
+    const long f = N.factorisations, u = N.rank_updates;
+    solveVelocities(st, p.bodies, p.trees, rows, work);
+    EXPECT_EQ(N.factorisations - f, 1) << "trial " << trial;
+    EXPECT_EQ(N.rank_updates - u, 0) << "trial " << trial;
+    worst = std::max(worst, (t.nu - answer).cwiseAbs().maxCoeff() / answer.cwiseAbs().maxCoeff());
+  }
+  EXPECT_GE(solved, 15);  // (measured: 20 of 20)
+  EXPECT_LE(worst, 1e-6);
+}
+
 // The position correction as its sweeps were before they took the factor's coordinates: the
 // same Gauss–Seidel on the same rows in the same order, with the same stopping test, a row's
 // pseudo-impulse applied to pν through the dense column M⁻¹ Jᵀ n and a stop's through M⁻¹ e_k,

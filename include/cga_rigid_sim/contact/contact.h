@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 namespace cga_rigid_sim {
 namespace sim {
@@ -32,6 +33,10 @@ struct Contact {
   /// and tangential (world axes, N s, |friction| ≤ mu·normal).
   double normal_impulse = 0.0;
   Eigen::Vector3d friction_impulse_W = Eigen::Vector3d::Zero();
+  /// The solver's own, for the next step's warm start: of normal_impulse, the part a tree's
+  /// resting solve put on its friction pyramid's two edges along the first tangent (the rest
+  /// on the two along the second), which the impulses alone do not tell; NaN when unknown.
+  double pyramid_share = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace sim
