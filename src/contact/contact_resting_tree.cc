@@ -171,16 +171,14 @@ int solveRestingTree(const SolverSettings& st, std::vector<SolverTree>& trees,
     // λ_t (a resting tree then starts at its last answer), on a contact's edges as this solve
     // left them (pyramidEdges).
     const double ln = std::max(0.0, c.lambda_n);
-    if (c.mu > 0)
-      N.beta.segment<4>(i) = pyramidEdges(ln, c.lambda_t, c.mu, c.pyramid_share);
-    else
-      N.beta[i] = ln;
     if (c.mu > 0) {
+      N.beta.segment<4>(i) = pyramidEdges(ln, c.lambda_t, c.mu, c.pyramid_share);
       addRow(c.n + c.mu * c.t1);
       addRow(c.n - c.mu * c.t1);
       addRow(c.n + c.mu * c.t2);
       addRow(c.n - c.mu * c.t2);
     } else {
+      N.beta[i] = ln;
       addRow(c.n);
     }
   }

@@ -139,7 +139,8 @@ struct ContactRow {
   double lambda_n = 0.0;
   Eigen::Vector2d lambda_t = Eigen::Vector2d::Zero();
   /// Of lambda_n, the part on the friction pyramid's edges n ± μ t1 (the rest on n ± μ t2) in
-  /// a tree's resting solve (contact_resting_tree.cc), last step's on entry; NaN: unknown.
+  /// a tree's resting solve (contact_resting_tree.cc), as the last one left it on entry (the
+  /// sweeps leave it); NaN: unknown.
   double pyramid_share = std::numeric_limits<double>::quiet_NaN();
   double lambda_p = 0.0;  ///< position correction's accumulated pseudo-impulse
   /// The contact model's patch couples (contact_patch.h), 0 when off: about n, about t1 and

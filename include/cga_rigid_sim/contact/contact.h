@@ -34,8 +34,9 @@ struct Contact {
   double normal_impulse = 0.0;
   Eigen::Vector3d friction_impulse_W = Eigen::Vector3d::Zero();
   /// The solver's own, for the next step's warm start: of normal_impulse, the part a tree's
-  /// resting solve put on its friction pyramid's two edges along the first tangent (the rest
-  /// on the two along the second), which the impulses alone do not tell; NaN when unknown.
+  /// resting solve last put on its friction pyramid's two edges along the first tangent (the
+  /// rest on the two along the second; kept through steps the sweeps solve), which the
+  /// impulses alone do not tell; NaN when unknown.
   double pyramid_share = std::numeric_limits<double>::quiet_NaN();
 };
 
