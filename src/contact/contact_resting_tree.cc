@@ -55,6 +55,19 @@ bool eligible(const SolverSettings& st, const std::vector<SolverTree>& trees,
   return ok;
 }
 
+// out += Σ_i J_iᵀ P_i over the contacts rows[contacts[i]] on tree t (J_i their point's
+// velocity per unit ν, signed for the tree's side), P_i = impulse(i, row) in world axes.
+template <class Impulse>
+void addContactImpulses(const std::vector<ContactRow>& rows, const std::vector<int>& contacts,
+                        int t, Eigen::VectorXd& out, Impulse impulse) {
+  for (int i = 0; i < static_cast<int>(contacts.size()); ++i) {
+    const ContactRow& c = rows[contacts[i]];
+    double sign = 1;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
+    out.noalias() += sign * J.transpose() * impulse(i, c);
+  }
+}
+
 // ν = ν_f + M⁻¹ Gᵀ β: the tree's velocity under the rows' impulses β from ν_f (by default the
 // velocity before the impulses; dnu: scratch).
 void velocityOfImpulses(SolverTree& T, const TreeNewton& N, Eigen::VectorXd& dnu,
@@ -323,12 +336,9 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
   // then the friction kept within μ λ_n of the new normals; again while that changed it.
   for (int round = 0; round < kPolishRounds; ++round) {
     R.dnu.setZero(nv);
-    for (int i = 0; i < m; ++i) {
-      const ContactRow& c = rows[R.contacts[i]];
-      double sign = 1;
-      const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
-      R.dnu.noalias() += sign * J.transpose() * (held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
-    }
+    addContactImpulses(rows, R.contacts, t, R.dnu, [&](int i, const ContactRow& c) {
+      return Eigen::Vector3d(held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
+    });
     T.factor.solveInPlace(R.dnu);
     R.nu_f = T.nu_start + R.dnu;
     velocityOfImpulses(T, N, R.dnu, &R.nu_f);
@@ -349,13 +359,9 @@ bool polishTreeNormals(const SolverSettings& st, std::vector<SolverTree>& trees,
   // ν from every impulse (the normals solved, the friction held, the stops), so that the
   // tree's momentum changes by its contacts' impulses exactly.
   R.dnu.setZero(nv);
-  for (int i = 0; i < m; ++i) {
-    const ContactRow& c = rows[R.contacts[i]];
-    double sign = 1;
-    const Eigen::Matrix<double, 3, Eigen::Dynamic>& J = sideJacobian(c, t, &sign);
-    R.dnu.noalias() +=
-        sign * J.transpose() * (N.beta[i] * c.n + held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
-  }
+  addContactImpulses(rows, R.contacts, t, R.dnu, [&](int i, const ContactRow& c) {
+    return Eigen::Vector3d(N.beta[i] * c.n + held[2 * i] * c.t1 + held[2 * i + 1] * c.t2);
+  });
   for (int q = 0; q < s; ++q) R.dnu[N.single[q].index] += N.single[q].sign * N.single[q].beta;
   T.factor.solveInPlace(R.dnu);
   R.nu_f = T.nu_start + R.dnu;

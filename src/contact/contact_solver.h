@@ -191,10 +191,9 @@ struct SolverSettings {
   double resting_tree_speed = 0.02;
   /// An island of one tree alone whose sweeps stopped at their cap with a contact approaching
   /// faster than this past its target (m/s) has its normals and stops solved again by Newton's
-  /// method, the sweeps' friction held (contact_resting_tree.h): left, it sinks at up to a few
-  /// cm/s and jams a foot under its own leg, which the correction (paid from the kinetic
-  /// energy) cannot lift. 1 mm/s moves a contact 1 µm in a 1 ms step, a fiftieth of the slop.
-  /// Why: doc/decisions.md. Off with resting_tree_speed = 0 (Newton's solves off).
+  /// method, the sweeps' friction held (contact_resting_tree.h). 1 mm/s moves a contact 1 µm in
+  /// a 1 ms step, a fiftieth of the slop. Why: doc/decisions.md. Off with
+  /// resting_tree_speed = 0 (Newton's solves off).
   double tree_sink_speed = 1e-3;
   int position_iterations = 10;  ///< sweeps of the position correction at most
   /// The position correction moves a tree's coordinate (a joint, rad or m; the floating base's
