@@ -19,6 +19,7 @@ after the first impact: the angle turned in 0.4 s, what |ω| keeps where it drop
 it turns back), and when the cube lies flat. --perturb W,V,N and --scatter MU,E,N count the runs
 whose simulation ends on another face when the starts, or each run's μ and e, are drawn afresh;
 --grid scores each run at the grid point best for it alone. --rocking: sysid/rocking.py.
+--slides: how the error grows and the last flat slides replayed, sysid/slides.py.
 """
 import argparse
 import copy
@@ -30,7 +31,7 @@ import sys
 
 import numpy as np
 
-from . import model, rocking, scoring, trajectories
+from . import model, rocking, scoring, slides, trajectories
 
 RATE = 148.0
 POST = 2
@@ -256,7 +257,13 @@ def main(argv=None):
     ap.add_argument('--grid', default=None, metavar='NAME=V1/V2/...,...',
                     help='with --sim: score each run at the grid point best for it alone and '
                          'all at the one best point (the other parameters from --sim)')
+    ap.add_argument('--slides', action='store_true',
+                    help='with --sim: how the error grows from the start in the runs ending on '
+                         'the real face and the others, and each last flat slide simulated from '
+                         'the real state at its start (sysid/slides.py)')
     args = ap.parse_args(argv)
+    if args.slides and not args.sim:
+        ap.error('--slides needs --sim (the parameters)')
     if args.grid:
         if not args.sim:
             ap.error('--grid needs --sim (the other parameters)')
@@ -337,6 +344,8 @@ def main(argv=None):
                                                [m['k'] if m else None for m in first])
     if sims is not None:
         later(runs, sims)
+        if args.slides:
+            slides.report(urdf, 'body', runs, sims, params, 1.0 / (RATE * 7), 2 * HALF, HALF)
         if args.grid:
             per_run_best(urdf, runs, params, grid)
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
