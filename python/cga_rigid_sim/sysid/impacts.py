@@ -132,10 +132,10 @@ def turn_vectors(quats):
     return scoring.rotation_vector(rel) * RATE
 
 
-def settle_index(quats):
-    """The first sample from which the cube lies flat for good (tilt below 3°)."""
+def settle_index(quats, degrees=3.0):
+    """The first sample from which the cube lies flat for good (tilt below `degrees`)."""
     up = np.stack([scoring.quat_rotate(quats, np.tile(e, (len(quats), 1))) for e in np.eye(3)], 1)
-    flat = np.degrees(np.arccos(np.clip(np.abs(up[:, :, 2]).max(1), 0, 1))) < 3
+    flat = np.degrees(np.arccos(np.clip(np.abs(up[:, :, 2]).max(1), 0, 1))) < degrees
     k = len(flat)
     while k > 0 and flat[k - 1]:
         k -= 1

@@ -52,20 +52,10 @@ def _nearest_down_axis(q):
     return e
 
 
-def flat_from(quats, degrees=FLAT_DEG):
-    """The first sample from which the cube lies within `degrees` of a face for good."""
-    up = np.stack([scoring.quat_rotate(quats, np.tile(e, (len(quats), 1))) for e in np.eye(3)], 1)
-    flat = np.degrees(np.arccos(np.clip(np.abs(up[:, :, 2]).max(1), 0, 1))) < degrees
-    k = len(flat)
-    while k > 0 and flat[k - 1]:
-        k -= 1
-    return k
-
-
 def slide_start(quats):
     """The first sample of the last flat slide (MARGIN after the cube lies flat for good), or
     None when fewer than 10 samples remain after it."""
-    k = flat_from(quats) + MARGIN
+    k = impacts.settle_index(quats, FLAT_DEG) + MARGIN
     return k if k + 10 <= len(quats) else None
 
 
@@ -164,7 +154,7 @@ def entry(runs, sims, indices):
     for i in indices:
         for side, p, q in (('data', runs[i].position, runs[i].quaternion),
                            ('sim', sims[i]['poses'][:, :3], sims[i]['poses'][:, 3:])):
-            f = flat_from(q, 3.0)
+            f = impacts.settle_index(q)
             speed = np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1) * RATE
             spin = impacts.turn_vectors(q)[:, 2]
             moving = np.nonzero((speed > 0.02) | (np.abs(spin) > 0.3))[0]
