@@ -157,6 +157,22 @@ def test_cross_validation_report_is_deterministic(tmp_path):
         assert os.path.getsize(tmp_path / 'b' / png) > 1000
 
 
+def test_one_fold_is_reported_in_sample_not_held_out(tmp_path):
+    # --folds 1 fits on every run and tests on the same runs: the report says so, and its
+    # errors are the training errors (the same runs, the same parameters).
+    args = ['cv', DATA, '--urdf', URDF, '--model', 'plain:mu=0.1:0.5,restitution=0.1',
+            '--folds', '1', '--initial', '4', '--max-evaluations', '8', '--horizon', '0.4',
+            '--no-dask', '--out', str(tmp_path)]
+    assert cli.main(args) == 0
+    summary = json.load(open(tmp_path / 'results.json'))['summary']
+    fold = summary['folds'][0]
+    assert fold['train_runs'] == fold['test_runs'] == '000–007'
+    assert fold['test']['position_mean'] == pytest.approx(fold['train']['position'], rel=1e-12)
+    report = open(tmp_path / 'report.md').read()
+    assert 'in sample, not held out' in report
+    assert 'held-out runs of every fold' not in report
+
+
 def test_inertia_scale_multiplies_every_moment_and_the_turn_an_impulse_gives():
     # Truth: scale_inertia multiplies ixx … izz of every <inertia> by s and touches nothing else
     # (the mass stays); an impulse J off the centre by p then turns the body by p × J / (s I):

@@ -119,7 +119,8 @@ def cmd_cv(args):
     log = (lambda s: print(s, flush=True)) if args.verbose else None
     summary = {'data': ' '.join(args.data), 'runs': len(runs), 'urdf': args.urdf, 'body': body,
                'size': size, 'dt': runner.dt, 'runner': runner.description,
-               'ranges': {}, 'folds': [], 'models': [], 'plots': []}
+               'ranges': {}, 'folds': [], 'models': [], 'plots': [],
+               'in_sample': args.folds == 1}
     per_model_rows, sens_by_model = {}, {}
     t0 = time.time()
     with runner:
@@ -166,10 +167,12 @@ def cmd_cv(args):
     summary['wall_time_s'] = time.time() - t0
     if args.out:
         os.makedirs(args.out, exist_ok=True)
-        report.plot_errors(os.path.join(args.out, 'errors_per_run.png'), per_model_rows)
+        runs_are = 'run fitted on' if summary['in_sample'] else 'held-out run'
+        report.plot_errors(os.path.join(args.out, 'errors_per_run.png'), per_model_rows,
+                           runs_are)
         report.plot_error_vs_time(os.path.join(args.out, 'error_vs_time.png'), per_model_rows,
                                   args.rate)
-        summary['plots'] = [('error per held-out run', 'errors_per_run.png'),
+        summary['plots'] = [('error per ' + runs_are, 'errors_per_run.png'),
                             ('error against time', 'error_vs_time.png')]
         if sens_by_model:
             report.plot_sensitivity(os.path.join(args.out, 'sensitivity.png'), sens_by_model)

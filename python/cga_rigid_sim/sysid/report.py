@@ -27,11 +27,14 @@ def write(out_dir, summary, details=None):
             100 * f['train']['position'], f['train']['rotation_deg'],
             100 * f['test']['position_mean'], 100 * f['test']['position_std'],
             f['test']['rotation_mean_deg'], f['test']['rotation_std_deg'], f['evaluations']))
+    # One fold (--folds 1) fits on every run and tests on the same: not held out.
+    which = ('the runs it was fitted on (in sample, not held out)' if summary.get('in_sample')
+             else 'held-out runs of every fold together')
     for m in summary.get('models', []):
         lines.append('')
-        lines.append('**%s**, held-out runs of every fold together: position %.1f %% ± %.1f of '
+        lines.append('**%s**, %s: position %.1f %% ± %.1f of '
                      'the size, rotation %.1f° ± %.1f (%d runs).' % (
-                         m['model'], 100 * m['position_mean'], 100 * m['position_std'],
+                         m['model'], which, 100 * m['position_mean'], 100 * m['position_std'],
                          m['rotation_mean_deg'], m['rotation_std_deg'], m['runs']))
     failed = [x for f in summary['folds'] for x in f.get('failed', [])]
     lines.append('')
@@ -56,8 +59,8 @@ def write(out_dir, summary, details=None):
     return text
 
 
-def plot_errors(path, per_model):
-    """Per held-out run: position and rotation error, one series per model."""
+def plot_errors(path, per_model, runs_are='held-out run'):
+    """Per held-out run (or `runs_are`): position and rotation error, one series per model."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -71,9 +74,9 @@ def plot_errors(path, per_model):
     ax[1].axhline(15, color='k', lw=0.5, ls='--')
     ax[0].set_ylabel('position error, % of size')
     ax[1].set_ylabel('rotation error, deg')
-    ax[1].set_xlabel('held-out run (in data order)')
+    ax[1].set_xlabel('%s (in data order)' % runs_are)
     ax[0].legend(fontsize=8)
-    ax[0].set_title('Mean error per held-out run (dashed: 10 % and 15°)')
+    ax[0].set_title('Mean error per %s (dashed: 10 %% and 15°)' % runs_are)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
