@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import impacts, model, scoring
+from . import impacts, model, rocking, scoring
 
 RATE = 148.0
 FIT_SAMPLES = 5   # samples of the quadratic fits giving the slide's starting velocities
@@ -32,7 +32,10 @@ MARGIN = 5        # samples after it lies flat for good: the slide's start
 def level(q):
     """The attitude q turned by its tilt, so that the body axis nearest the vertical is
     vertical (the yaw kept): a cube lying flat on its nearest face."""
-    down = scoring.quat_rotate(q, _nearest_down_axis(q))
+    face = rocking.down_face(q)
+    axis_down = np.zeros(3)
+    axis_down[abs(face) - 1] = math.copysign(1.0, face)
+    down = scoring.quat_rotate(q, axis_down)
     target = np.array([0.0, 0.0, -1.0])
     axis = np.cross(down, target)
     s, c = np.linalg.norm(axis), float(down @ target)
@@ -42,14 +45,6 @@ def level(q):
     turn = np.r_[math.cos(half), axis / s * math.sin(half)]
     out = scoring.quat_mul(turn, q)
     return out / np.linalg.norm(out)
-
-
-def _nearest_down_axis(q):
-    d = scoring.quat_rotate(scoring.quat_conj(q), np.array([0.0, 0.0, -1.0]))
-    i = int(np.argmax(np.abs(d)))
-    e = np.zeros(3)
-    e[i] = math.copysign(1.0, d[i])
-    return e
 
 
 def slide_start(quats):
