@@ -25,7 +25,7 @@ import time
 import numpy as np
 
 import cga_rigid_sim as cs
-from cga_rigid_sim.sysid import model, scoring, trajectories
+from cga_rigid_sim.sysid import impacts, model, scoring, trajectories
 
 RATE = 148.0
 
@@ -63,14 +63,14 @@ def run_ours(urdf, runs, count, samples, steps, params, threads):
     return poses[:, :, 0, :], t2 - t0, t2 - t1, int((~ok).sum())
 
 
-def run_mujoco(exe, runs, count, samples, steps, dt, mu, damp, height, threads, tmp,
-               inertia=0.00081):
+def run_mujoco(exe, runs, count, samples, steps, dt, mu, damp, height, threads, tmp, cube):
+    """cube: (half-width, mass, moment of inertia) of the body MuJoCo simulates."""
     starts = os.path.join(tmp, 'starts.txt')
     with open(starts, 'w') as f:
         for k in range(count):
             st = runs[k % len(runs)].start
             s = np.concatenate([st.position, st.quaternion, st.velocity, st.omega_world])
-            f.write('%d %d %.17g %.17g %.17g ' % (samples, steps, 0.0524, 0.37, inertia) +
+            f.write('%d %d %.17g %.17g %.17g ' % (samples, steps, *cube) +
                     ' '.join('%.17g' % v for v in s) + '\n')
     out = os.path.join(tmp, 'mj.csv')
     t0 = time.perf_counter()
@@ -112,12 +112,14 @@ def main():
     trajs = trajectories.read_directory(a.data)
     samples = int(round(a.seconds * RATE))
     ours_steps = [int(x) for x in str(a.steps_per_sample).split(',')]
-    runs = model.prepare_runs(trajs, RATE * ours_steps[0], 0.0524 * math.sqrt(3))
+    with open(urdf) as f:
+        half, mass, inertia = impacts.read_cube(f.read())
+    runs = model.prepare_runs(trajs, RATE * ours_steps[0], half * math.sqrt(3))
     ours = {k: v[0] for k, v in model.parse_ranges(a.ours).items()}
-    size = 0.1048
+    size = 2 * half
     # The cube's moments as ours are given them (inertia_scale, a property of the body measured
     # from the first impacts, doc/fitting.md): MuJoCo simulates the same body.
-    inertia = 0.00081 * ours.get('inertia_scale', 1.0)
+    cube = (half, mass, inertia * ours.get('inertia_scale', 1.0))
     print('tosses: %d starts of %s, %d simulated, %d samples (%.3f s) each, %d threads'
           % (len(runs), a.data, a.count, samples, samples / RATE, a.threads))
 
@@ -134,7 +136,7 @@ def main():
             for e in grid['restitution']:
                 for h in grid['height']:
                     poses, _, _ = run_mujoco(a.mujoco, runs, len(runs), samples, ms, dt_mj, mu,
-                                             damp_for(e), h, a.threads, tmp, inertia)
+                                             damp_for(e), h, a.threads, tmp, cube)
                     pe, re = score(runs, poses, size)
                     J = pe / 0.1 + re / 15
                     if best is None or J < best[0]:
@@ -159,7 +161,7 @@ def main():
             for _ in range(a.repeat):
                 poses, wall, stepping = run_mujoco(a.mujoco, runs, a.count, samples, ms,
                                                    1.0 / (RATE * ms), best[1], damp_for(best[2]),
-                                                   best[3], a.threads, tmp, inertia)
+                                                   best[3], a.threads, tmp, cube)
                 times.append((wall, stepping))
             pe, re = score(runs, poses[:len(runs)], size)
             wall, stepping = min(times)

@@ -55,15 +55,16 @@ def test_a_replayed_slide_ends_where_the_simulation_ended():
 
 
 def test_a_slide_start_is_level_and_keeps_the_yaw():
-    # A pose tilted by 0.8° about a horizontal axis is levelled: the body axis nearest the
-    # vertical becomes vertical (to round-off) and the turn about the vertical is kept.
+    # A yawed pose tilted by 0.8° about a world horizontal axis is levelled by the turn about
+    # that axis that undoes the tilt: it gives back the yawed pose itself, to round-off (the
+    # quaternions' products: 1e-12 rad).
     yaw, tilt = 0.7, math.radians(0.8)
     q_yaw = np.array([math.cos(yaw / 2), 0, 0, math.sin(yaw / 2)])
     q_tilt = np.array([math.cos(tilt / 2), math.sin(tilt / 2), 0, 0])
     q = slides.level(scoring.quat_mul(q_tilt, q_yaw))
     up = scoring.quat_rotate(q, np.array([0.0, 0.0, 1.0]))
     assert up == pytest.approx([0, 0, 1], abs=1e-12)
-    assert slides.yaw_part(q, q_yaw) < 1e-4     # the levelling turn's own yaw: tilt²/2
+    assert scoring.rotation_angle(q, q_yaw) < 1e-12
 
 
 def test_growth_splits_the_runs_by_their_final_face():

@@ -24,9 +24,8 @@ RATE = 148.0
 FIT_SAMPLES = 5   # samples of the quadratic fits giving the slide's starting velocities
 FLAT_DEG = 1.0    # a cube tilted less than this from its nearest face lies flat
 MARGIN = 5        # samples after it lies flat for good: the slide's start
-# (FLAT_DEG and MARGIN: replaying simulated runs, the slide from 3° and 2 samples ends 5 % of
-# the size from the simulation's own end, the cube still rocking on its face; from 1° and 5
-# samples, 0.3 %.)
+# (Below 3° a cube may still rock on its face: the slide starts once it lies within 1°, and a
+# few samples later; doc/fitting.md#the-slides-and-the-impacts.)
 
 
 def level(q):
@@ -134,9 +133,7 @@ def growth(runs, sims, samples=(5, 10, 20, 40, 60, 80), threshold=40.0):
             g['final_deg'] = float(np.degrees(np.mean([sims[i]['rotation_series'][-1]
                                                        for i in group])))
             g['final_yaw_deg'] = float(np.degrees(np.mean([
-                yaw_part(runs[i].quaternion[len(sims[i]['rotation_series']) - 1],
-                         sims[i]['poses'][len(sims[i]['rotation_series']) - 1, 3:])
-                for i in group])))
+                yaw_part(runs[i].quaternion[-1], sims[i]['poses'][-1, 3:]) for i in group])))
         out[name] = g
     return out
 
