@@ -20,6 +20,7 @@ it turns back), and when the cube lies flat. --perturb W,V,N and --scatter MU,E,
 whose simulation ends on another face when the starts, or each run's μ and e, are drawn afresh;
 --grid scores each run at the grid point best for it alone. --rocking: sysid/rocking.py.
 --slides: how the error grows and the last flat slides replayed, sysid/slides.py.
+--floor: the nominal simulation scored against simulations whose impacts scatter, sysid/floor.py.
 """
 import argparse
 import copy
@@ -31,7 +32,7 @@ import sys
 
 import numpy as np
 
-from . import model, rocking, scoring, slides, trajectories
+from . import floor, model, rocking, scoring, slides, trajectories
 
 RATE = 148.0
 POST = 2
@@ -261,9 +262,27 @@ def main(argv=None):
                     help='with --sim: how the error grows from the start in the runs ending on '
                          'the real face and the others, and each last flat slide simulated from '
                          'the real state at its start (sysid/slides.py)')
+    ap.add_argument('--floor', default=None, metavar='KI,E,MU,N[,EVERY]',
+                    help='with --sim: score the nominal simulation against N simulations whose '
+                         'k_i, e and μ are drawn afresh every EVERY samples (3) over the first '
+                         '%d (standard deviations KI and MU relative, E absolute): the error '
+                         'one set of values leaves on impacts that scatter so '
+                         '(sysid/floor.py)' % floor.SPAN)
     args = ap.parse_args(argv)
     if args.slides and not args.sim:
         ap.error('--slides needs --sim (the parameters)')
+    if args.floor:
+        if not args.sim:
+            ap.error('--floor needs --sim (the nominal parameters)')
+        try:
+            parts = [float(x) for x in args.floor.split(',')]
+            if len(parts) not in (4, 5) or any(x != int(x) for x in parts[3:]):
+                raise ValueError
+        except ValueError:
+            ap.error('--floor %r: expected KI,E,MU,N[,EVERY] (three deviations, then whole '
+                     'numbers)' % args.floor)
+        scatter = dict(zip(('impact_friction_ratio', 'restitution', 'mu'), parts[:3]))
+        draws, every = int(parts[3]), int(parts[4]) if len(parts) == 5 else 3
     if args.grid:
         if not args.sim:
             ap.error('--grid needs --sim (the other parameters)')
@@ -348,6 +367,24 @@ def main(argv=None):
             slides.report(urdf, 'body', runs, sims, params, 1.0 / (RATE * 7), 2 * HALF, HALF)
         if args.grid:
             per_run_best(urdf, runs, params, grid)
+        if args.floor:
+            try:
+                f = floor.floor(urdf, 'body', runs, params, scatter, draws, every,
+                                1.0 / (RATE * 7), 2 * HALF)
+            except model.ParameterError as e:
+                ap.error('--floor: %s' % e)
+            sp, sr, n = floor.tracking_noise(trajs, radius)
+            print('tracking noise in free flight (%d runs, median): %.3f mm and %.3f deg per '
+                  'axis' % (n, 1e3 * sp, math.degrees(sr)))
+            print('floor: the nominal simulation scored against %d draws of each of %d runs '
+                  '(k_i %.0f %%, e %.3f, mu %.0f %% drawn every %d samples over the first %d): '
+                  '%.1f %%, %.1f deg, another final face in %.1f runs per draw; against the '
+                  'data %.1f %%, %.1f deg'
+                  % (draws, f['runs'], 100 * scatter['impact_friction_ratio'],
+                     scatter['restitution'], 100 * scatter['mu'], every, floor.SPAN,
+                     100 * f['position'], math.degrees(f['rotation']),
+                     f['other_faces_per_draw'], 100 * f['data_position'],
+                     math.degrees(f['data_rotation'])))
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
             if opt:
                 a, b, n = opt.split(',')

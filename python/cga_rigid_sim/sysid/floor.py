@@ -1,0 +1,135 @@
+"""The floor of one deterministic model on scattering impacts (`fit impacts --floor`,
+doc/fitting.md#the-floor-of-one-deterministic-model).
+
+Real impacts scatter from toss to toss and from impact to impact: the first impacts' friction
+ratio by about 16 % about its median, and no state before them predicts it. A simulation with
+one set of parameters cannot follow that scatter; how much error it leaves is measured here by
+making the model itself the world: each run is simulated again with the parameters of its
+impacts drawn afresh every `every` samples over its first `span` samples (the impacts; then
+the cube slides), and the nominal simulation is scored against each draw as if the draw were
+the data. What it scores is the error the nominal values would have on a world that is the
+model with impacts that scatter so: the part of the error on real data that no single set of
+values can remove.
+
+The tracking's own noise (`tracking_noise`) says whether the measured scatter is the tracking's:
+in free flight a parabola under gravity and a constant spin (a cube's equal moments) leave
+second differences that are the noise alone.
+"""
+import math
+
+import numpy as np
+
+from . import model, scoring
+
+# name: whether its standard deviation is relative to the value (True) or absolute (False).
+SCATTERED = {'impact_friction_ratio': True, 'restitution': False, 'mu': True}
+SPAN = 60  # samples (0.4 s at 148 Hz): the impacts of a toss, before it slides flat
+
+
+def draw(params, scatter, rng):
+    """`params` with each scattered parameter drawn about its value (normal; a relative
+    standard deviation for k_i and μ, absolute for e), kept inside its physical range."""
+    out = dict(params)
+    for name, sd in scatter.items():
+        if sd == 0:
+            continue
+        value = float(params.get(name, model.PARAMETERS[name][2]))
+        value = value * (1 + sd * rng.normal()) if SCATTERED[name] else value + sd * rng.normal()
+        lo, hi = model.PARAMETERS[name][:2]
+        if name in model.OPEN_BELOW:  # k_i > 0: a draw 6 deviations out keeps a little
+            lo = 1e-3 * float(params.get(name, model.PARAMETERS[name][2]))
+        out[name] = min(hi, max(lo, value))
+    return out
+
+
+def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN):
+    """The poses (samples, 7) of `run` simulated from its start, its parameters drawn afresh
+    (`draw`) every `every` samples while fewer than `span` have passed: each draw makes a new
+    World of `scene` and carries the body's pose and velocities over."""
+    import cga_rigid_sim
+
+    def world(pose, vel):
+        w = cga_rigid_sim.World(scene, **model.world_options(draw(params, scatter, rng), dt))
+        w.set_body_state(body, pose[:3], pose[3:], vel[:3], vel[3:])
+        return w
+    st = run.start
+    w = world(np.r_[st.position, st.quaternion], np.r_[st.velocity, st.omega_world])
+    out = [w.poses()[0].copy()]
+    for j, n in enumerate(run.increments):
+        if 0 < j < span and j % every == 0:
+            w = world(w.poses()[0], w.velocities()[0])
+        w.step(int(n))
+        out.append(w.poses()[0].copy())
+    return np.array(out)
+
+
+def errors(a, b, size):
+    """The scoring's two mean errors of poses b against poses a: position over size, and the
+    rotation angle (rad)."""
+    pos = np.linalg.norm(a[:, :3] - b[:, :3], axis=1).mean() / size
+    rot = scoring.rotation_angle(a[:, 3:], b[:, 3:]).mean()
+    return float(pos), float(rot)
+
+
+def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0, span=SPAN):
+    """The nominal simulation of every run scored against `draws` simulations of it with
+    scattered impacts (`rollout_redrawn`, seed `seed`): mean position error (fraction of size),
+    mean rotation error (rad), the number of other final faces (final attitudes more than 40°
+    apart) per draw over all runs, and the nominal's own errors against the data."""
+    for name in scatter:
+        if name not in SCATTERED:
+            raise model.ParameterError('%s: not a scattered parameter (%s)'
+                                       % (name, ', '.join(SCATTERED)))
+        if not math.isfinite(scatter[name]) or scatter[name] < 0:
+            raise model.ParameterError('%s: its standard deviation must be finite and >= 0 '
+                                       '(got %r)' % (name, scatter[name]))
+    if draws < 1 or every < 1:
+        raise model.ParameterError('draws and every must be at least 1 (got %d, %d)'
+                                   % (draws, every))
+    nominal = model.simulate_runs(urdf_text, body, runs, params, dt, size, keep_poses=True)
+    scene = model.scene_of(model.scale_inertia(urdf_text, float(params.get('inertia_scale', 1))))
+    rng = np.random.default_rng(seed)
+    pos, rot, faces = [], [], 0
+    for run, nom in zip(runs, nominal):
+        if not nom['ok']:
+            continue
+        for _ in range(draws):
+            other = rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span)
+            if not np.all(np.isfinite(other)):
+                continue
+            e = errors(nom['poses'], other, size)
+            pos.append(e[0])
+            rot.append(e[1])
+            faces += math.degrees(scoring.rotation_angle(nom['poses'][-1:, 3:],
+                                                         other[-1:, 3:])[0]) > 40
+    ok = [r for r in nominal if r['ok']]
+    return {'position': float(np.mean(pos)), 'rotation': float(np.mean(rot)),
+            'other_faces_per_draw': faces / draws, 'runs': len(ok),
+            'data_position': float(np.mean([r['position'] for r in ok])),
+            'data_rotation': float(np.mean([r['rotation'] for r in ok]))}
+
+
+def tracking_noise(trajs, radius, gravity=(0.0, 0.0, -9.81)):
+    """The tracking's noise (standard deviation per axis: m, rad) from each trajectory's free
+    flight (the samples before its centre first comes within `radius` of z = 0; a uniform
+    rate): white noise of
+    deviation σ on samples gives second differences of deviation √6 σ, and a parabola under
+    gravity and a constant spin have none of their own. Median over the trajectories with at
+    least 8 such samples."""
+    sp, sr = [], []
+    g = np.asarray(gravity, float)
+    for traj in trajs:
+        below = np.nonzero(traj.position[:, 2] < radius)[0]
+        k = int(below[0]) if len(below) else len(traj)
+        if k < 8:
+            continue
+        dt = traj.t[1] - traj.t[0]
+        p, q = traj.position[:k], traj.quaternion[:k]
+        a = p[2:] - 2 * p[1:-1] + p[:-2] - g * dt * dt
+        sp.append(math.sqrt(np.mean(a ** 2) / 6))
+        turn = scoring.rotation_vector(scoring.quat_mul(q[1:], scoring.quat_conj(q[:-1])))
+        d2 = turn[1:] - turn[:-1]
+        sr.append(math.sqrt(np.mean(d2 ** 2) / 6))
+    if not sp:
+        return math.nan, math.nan, 0
+    return float(np.median(sp)), float(np.median(sr)), len(sp)

@@ -1,0 +1,124 @@
+"""`fit impacts --floor` (sysid/floor.py, doc/fitting.md#the-floor-of-one-deterministic-model):
+the tracking's noise read from free flight, and the simulations with redrawn impacts that the
+nominal simulation is scored against."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+from cga_rigid_sim.sysid import floor, impacts, model, scoring, trajectories
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, 'data', 'cube_tosses')
+URDF = open(os.path.join(DATA, 'cube.urdf')).read()
+SIZE, RATE, STEPS = 0.1048, 148.0, 7
+DT = 1.0 / (RATE * STEPS)
+RADIUS = SIZE / 2 * math.sqrt(3)
+PARAMS = {'mu': 0.21, 'restitution': 0.2, 'height': -0.0012, 'box_edge_radius': 0.005,
+          'impact_friction_ratio': 0.78, 'inertia_scale': 1.3}
+
+
+def exp(v):
+    """Unit quaternions of rotation vectors (n, 3)."""
+    th = np.linalg.norm(v, axis=1)
+    s = np.where(th > 0, np.sin(th / 2) / np.where(th > 0, th, 1.0), 0.5)
+    return np.c_[np.cos(th / 2), v * s[:, None]]
+
+
+def flight(sigma_p, sigma_r, rng, samples=40):
+    """A cube thrown from 0.4 m: a parabola under gravity and a constant spin (equal moments)
+    sampled at 148 Hz, with white noise of deviation sigma_p (m) on each position axis and
+    sigma_r (rad) about each attitude axis, until it is 5 cm from z = 0."""
+    t = np.arange(samples) / RATE
+    p = np.array([0.0, 0.0, 0.4]) + np.outer(t, [0.8, -0.3, -0.5]) \
+        + 0.5 * np.outer(t * t, [0.0, 0.0, -9.81])
+    w = np.array([4.0, -6.0, 2.5])
+    q = scoring.quat_mul(exp(np.outer(t, w)), np.tile([1.0, 0, 0, 0], (samples, 1)))
+    p = p + sigma_p * rng.normal(size=p.shape)
+    q = scoring.quat_mul(exp(sigma_r * rng.normal(size=(samples, 3))), q)
+    keep = p[:, 2] > 0.05
+    return trajectories.Trajectory('flight', t[keep], p[keep], q[keep])
+
+
+def test_tracking_noise_reads_the_noise_put_on_a_free_flight():
+    # Truth: the deviations the noise was drawn with. Each flight's estimate comes from ~28
+    # second differences per axis, correlated (their lag-1 correlation is -2/3): about 11 %
+    # deviation on σ, and the median of 40 flights about 2 % (fixed seed); 8 % is 4 of those.
+    rng = np.random.default_rng(0)
+    flights = [flight(2e-5, 3e-4, rng) for _ in range(40)]
+    sp, sr, n = floor.tracking_noise(flights, RADIUS)
+    assert n == 40
+    assert sp == pytest.approx(2e-5, rel=0.08)
+    assert sr == pytest.approx(3e-4, rel=0.08)
+    # Without noise the parabola and the spin leave round-off only.
+    sp, sr, _ = floor.tracking_noise([flight(0.0, 0.0, rng)], RADIUS)
+    assert sp < 1e-12 and sr < 1e-12
+
+
+def runs_of_the_test_data():
+    trajs = trajectories.read_directory(DATA, RATE)
+    return model.prepare_runs(trajs, RATE * STEPS, RADIUS, 0.0, horizon=1.0)
+
+
+def test_one_draw_at_the_start_is_the_simulation_with_the_drawn_values():
+    # A second method: drawn once at the start and never again (every beyond the run), the
+    # rollout is the fit's batch simulation under the values drawn with the same seed; both
+    # step the same World the same number of steps, so they agree to round-off.
+    runs = runs_of_the_test_data()[:3]
+    scatter = {'impact_friction_ratio': 0.16, 'restitution': 0.04, 'mu': 0.1}
+    scene = model.scene_of(model.scale_inertia(URDF, PARAMS['inertia_scale']))
+    for k, run in enumerate(runs):
+        drawn = floor.draw(PARAMS, scatter, np.random.default_rng(k))
+        assert drawn['mu'] != PARAMS['mu']
+        poses = floor.rollout_redrawn(scene, 'body', run, PARAMS, scatter, 10 ** 6,
+                                      np.random.default_rng(k), DT)
+        ref = model.simulate_runs(URDF, 'body', [run], drawn, DT, SIZE, keep_poses=True)[0]
+        assert poses.shape == ref['poses'].shape
+        assert np.abs(poses - ref['poses']).max() < 1e-12
+
+
+def test_redrawing_without_scatter_keeps_the_motion():
+    # With every deviation 0 a redraw only makes a new World and carries the pose and the
+    # velocities over (every 3 samples for 0.4 s): what it loses is the contact solver's warm
+    # start, whose effect is below the solver's tolerance. Scored against the nominal
+    # simulation the eight tosses stay within 0.5 % of the width and 0.5° (measured on the
+    # 100 tosses: 0.0 % and 0.1°); a pose or a velocity carried over wrongly (body axes for
+    # world, a root for a centre) moves them by tens of per cent and degrees.
+    runs = runs_of_the_test_data()
+    f = floor.floor(URDF, 'body', runs, PARAMS, {'impact_friction_ratio': 0.0}, 1, 3, DT, SIZE)
+    assert f['runs'] == 8
+    assert f['position'] < 0.005
+    assert math.degrees(f['rotation']) < 0.5
+    assert f['other_faces_per_draw'] == 0
+
+
+def test_scattered_impacts_move_the_draws_away_from_the_nominal():
+    # The floor is not zero when the impacts scatter: k_i drawn with 16 % deviation every 3
+    # samples moves the draws of the eight tosses by more than 1 % of the width (measured on
+    # the 100 tosses: 8 % and 7°); a scatter that was not applied would leave them at 0.
+    runs = runs_of_the_test_data()
+    f = floor.floor(URDF, 'body', runs, PARAMS, {'impact_friction_ratio': 0.16}, 2, 3, DT, SIZE)
+    assert f['position'] > 0.01
+    assert f['data_position'] == pytest.approx(
+        np.mean([r['position'] for r in model.simulate_runs(URDF, 'body', runs, PARAMS, DT,
+                                                            SIZE)]), rel=1e-12)
+
+
+def test_a_negative_deviation_is_refused_with_its_name():
+    with pytest.raises(model.ParameterError, match='restitution: its standard deviation'):
+        floor.floor(URDF, 'body', [], PARAMS, {'restitution': -0.1}, 1, 3, DT, SIZE)
+    with pytest.raises(model.ParameterError, match='height: not a scattered parameter'):
+        floor.floor(URDF, 'body', [], PARAMS, {'height': 0.001}, 1, 3, DT, SIZE)
+
+
+@pytest.mark.parametrize('args, message', [
+    (['--floor', '0.16,0.04,0.1,4'], '--floor needs --sim'),
+    (['--sim', 'mu=0.2', '--floor', '0.16,0.04,4'], 'expected KI,E,MU,N'),
+    (['--sim', 'mu=0.2', '--floor', '0.16,0.04,0.1,2.5'], 'expected KI,E,MU,N'),
+])
+def test_fit_impacts_floor_refuses_what_it_cannot_use(capsys, args, message):
+    with pytest.raises(SystemExit) as e:
+        impacts.main([DATA] + args)
+    assert e.value.code == 2
+    assert message in capsys.readouterr().err
