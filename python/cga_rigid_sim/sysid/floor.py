@@ -42,10 +42,32 @@ def draw(params, scatter, rng):
     return out
 
 
-def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN):
+def kick_turn(world, body, omega_before, turn, rng):
+    """After the step of a run's first impact: makes the impact's change of spin Δω depart from
+    the model's as the measured impacts' depart from a point impulse at the landing point. The
+    spin becomes ω⁻ + ρ Δω + c |Δω| u, ρ = 1 + turn[0] N, c = turn[1] |N| and u a random unit
+    vector across Δω: a couple, which the model's impact law cannot make. Returns the new ω."""
+    pose, vel = world.poses()[0], world.velocities()[0]
+    dw = vel[3:] - omega_before
+    size = float(np.linalg.norm(dw))
+    if size == 0:
+        return vel[3:]
+    u = rng.normal(size=3)
+    u -= (u @ dw) / size ** 2 * dw
+    u /= np.linalg.norm(u)
+    omega = omega_before + (1 + turn[0] * rng.normal()) * dw \
+        + turn[1] * abs(rng.normal()) * size * u
+    world.set_body_state(body, pose[:3], pose[3:], vel[:3], omega)
+    return omega
+
+
+def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN,
+                    turn=(0.0, 0.0)):
     """The poses (samples, 7) of `run` simulated from its start, its parameters drawn afresh
     (`draw`) every `every` samples while fewer than `span` have passed: each draw makes a new
-    World of `scene` and carries the body's pose and velocities over."""
+    World of `scene` and carries the body's pose and velocities over. With `turn` (two
+    deviations, along and across) the first impact's change of spin is scattered too
+    (`kick_turn`): the steps are taken one by one until the first with a contact."""
     import cga_rigid_sim
 
     def world(pose, vel):
@@ -55,10 +77,19 @@ def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN
     st = run.start
     w = world(np.r_[st.position, st.quaternion], np.r_[st.velocity, st.omega_world])
     out = [w.poses()[0].copy()]
+    kick = any(turn)
     for j, n in enumerate(run.increments):
         if 0 < j < span and j % every == 0:
             w = world(w.poses()[0], w.velocities()[0])
-        w.step(int(n))
+        if kick:
+            for _ in range(int(n)):
+                before = w.velocities()[0][3:].copy()
+                w.step(1)
+                if kick and len(w.contacts()['normal_impulse']):
+                    kick_turn(w, body, before, turn, rng)
+                    kick = False
+        else:
+            w.step(int(n))
         out.append(w.poses()[0].copy())
     return np.array(out)
 
@@ -71,9 +102,11 @@ def errors(a, b, size):
     return float(pos), float(rot)
 
 
-def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0, span=SPAN):
+def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0, span=SPAN,
+          turn=(0.0, 0.0)):
     """The nominal simulation of every run scored against `draws` simulations of it with
-    scattered impacts (`rollout_redrawn`, seed `seed`): mean position error (fraction of size),
+    scattered impacts (`rollout_redrawn`, seed `seed`, `turn` for the first impact's spin):
+    mean position error (fraction of size),
     mean rotation error (rad), the number of other final faces (final attitudes more than 40°
     apart) per draw over all runs, and the nominal's own errors against the data."""
     for name in scatter:
@@ -83,6 +116,8 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
         if not math.isfinite(scatter[name]) or scatter[name] < 0:
             raise model.ParameterError('%s: its standard deviation must be finite and >= 0 '
                                        '(got %r)' % (name, scatter[name]))
+    if len(turn) != 2 or not all(math.isfinite(x) and x >= 0 for x in turn):
+        raise model.ParameterError('turn: two deviations, finite and >= 0 (got %r)' % (turn,))
     if draws < 1 or every < 1:
         raise model.ParameterError('draws and every must be at least 1 (got %d, %d)'
                                    % (draws, every))
@@ -94,7 +129,8 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
         if not nom['ok']:
             continue
         for _ in range(draws):
-            other = rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span)
+            other = rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span,
+                                    turn)
             if not np.all(np.isfinite(other)):
                 continue
             e = errors(nom['poses'], other, size)
@@ -107,6 +143,42 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
             'other_faces_per_draw': faces / draws, 'runs': len(ok),
             'data_position': float(np.mean([r['position'] for r in ok])),
             'data_rotation': float(np.mean([r['rotation'] for r in ok]))}
+
+
+def departure(row):
+    """How the measured first impact's change of spin departs from the simulated one's of the
+    same run (a row of `fit impacts` with 'data' and 'sim'), each taken against a point impulse
+    at its landing point: (the ratio of their parts along that impulse's turn, data over sim;
+    the data's part across it less the simulation's, over the impulse's turn), or None."""
+    if row.get('sim') is None:
+        return None
+    parts = []
+    for m in (row['data'], row['sim']):
+        dwp, dw = np.asarray(m['dw_point']), np.asarray(m['dw'])
+        a = dw @ dwp / (dwp @ dwp)
+        parts.append((a, np.linalg.norm(dw - a * dwp) / np.linalg.norm(dwp)))
+    if parts[1][0] <= 0:
+        return None
+    return parts[0][0] / parts[1][0], parts[0][1] - parts[1][1]
+
+
+def turn_departure(rows):
+    """The deviations `kick_turn` draws with, from rows of `fit impacts` (`departure`): the
+    robust deviation (quartiles) of the ratio along, and that of a half-normal whose median is
+    the median excess across. None with fewer than 4 simulated rows."""
+    d = [x for x in (departure(row) for row in rows) if x is not None]
+    if len(d) < 4:
+        return None
+    along, across = np.array(d).T
+    q1, q3 = np.percentile(along, [25, 75])
+    return float((q3 - q1) / 1.349), float(max(0.0, np.median(across)) / 0.6745)
+
+
+def departure_targets():
+    """`departure`'s two parts as targets of `rocking.predictability`."""
+    def part(j):
+        return lambda row: None if departure(row) is None else departure(row)[j]
+    return [("the turn's ratio along", part(0)), ("the turn's excess across", part(1))]
 
 
 def tracking_noise(trajs, radius, gravity=(0.0, 0.0, -9.81)):

@@ -21,6 +21,8 @@ whose simulation ends on another face when the starts, or each run's μ and e, a
 --grid scores each run at the grid point best for it alone. --rocking: sysid/rocking.py.
 --slides: how the error grows and the last flat slides replayed, sysid/slides.py.
 --floor: the nominal simulation scored against simulations whose impacts scatter, sysid/floor.py.
+--after-first: the runs simulated again from the real state just after the first impact,
+sysid/restart.py.
 """
 import argparse
 import copy
@@ -32,7 +34,7 @@ import sys
 
 import numpy as np
 
-from . import floor, model, rocking, scoring, slides, trajectories
+from . import floor, model, restart, rocking, scoring, slides, trajectories
 
 RATE = 148.0
 POST = 2
@@ -268,7 +270,22 @@ def main(argv=None):
                          '%d (standard deviations KI and MU relative, E absolute): the error '
                          'one set of values leaves on impacts that scatter so '
                          '(sysid/floor.py)' % floor.SPAN)
+    ap.add_argument('--floor-turn', default='0,0', metavar='ALONG,ACROSS',
+                    help='with --floor: also scatter the first impact\'s change of spin, by '
+                         'ALONG of itself and ACROSS of its size across it (what the impacts '
+                         'summary measures: "the first impact\'s turn against the simulation\'s")')
+    ap.add_argument('--after-first', action='store_true',
+                    help='with --sim: simulate each run again from the real state just after '
+                         'its first impact and score the rest of it (sysid/restart.py)')
     args = ap.parse_args(argv)
+    if args.after_first and not args.sim:
+        ap.error('--after-first needs --sim (the parameters)')
+    try:
+        turn = tuple(float(x) for x in args.floor_turn.split(','))
+        if len(turn) != 2:
+            raise ValueError
+    except ValueError:
+        ap.error('--floor-turn %r: expected ALONG,ACROSS (two numbers)' % args.floor_turn)
     if args.slides and not args.sim:
         ap.error('--slides needs --sim (the parameters)')
     if args.floor:
@@ -345,6 +362,13 @@ def main(argv=None):
             print('  %-56s %6.3f [%6.3f %6.3f]' % (name, *q))
     summary('data')
     summary('sim')
+    dep = floor.turn_departure(rows)
+    if dep is not None:
+        print("the first impact's turn against the simulation's (same runs): deviation of their "
+              "ratio along a point impulse's %.2f, across it %.2f (--floor-turn %.2f,%.2f)"
+              % (*dep, *dep))
+        if args.floor:
+            rocking.predictability(rows, floor.departure_targets())
     if args.rocking:
         for side in ('data', 'sim') if sims is not None else ('data',):
             found = []
@@ -367,21 +391,26 @@ def main(argv=None):
             slides.report(urdf, 'body', runs, sims, params, 1.0 / (RATE * 7), 2 * HALF, HALF)
         if args.grid:
             per_run_best(urdf, runs, params, grid)
+        if args.after_first:
+            ks = [m['k'] if m else None for m in
+                  (measure(r.position, r.quaternion, r.start, args.height) for r in runs)]
+            restart.report(restart.after_first(urdf, 'body', runs, sims, ks, params,
+                                               1.0 / (RATE * 7), 2 * HALF, RATE))
         if args.floor:
             try:
                 f = floor.floor(urdf, 'body', runs, params, scatter, draws, every,
-                                1.0 / (RATE * 7), 2 * HALF)
+                                1.0 / (RATE * 7), 2 * HALF, turn=turn)
             except model.ParameterError as e:
                 ap.error('--floor: %s' % e)
             sp, sr, n = floor.tracking_noise(trajs, radius)
             print('tracking noise in free flight (%d runs, median): %.3f mm and %.3f deg per '
                   'axis' % (n, 1e3 * sp, math.degrees(sr)))
             print('floor: the nominal simulation scored against %d draws of each of %d runs '
-                  '(k_i %.0f %%, e %.3f, mu %.0f %% drawn every %d samples over the first %d): '
-                  '%.1f %%, %.1f deg, another final face in %.1f runs per draw; against the '
-                  'data %.1f %%, %.1f deg'
+                  '(k_i %.0f %%, e %.3f, mu %.0f %% drawn every %d samples over the first %d; '
+                  'the first impact\'s turn %.2f along, %.2f across): %.1f %%, %.1f deg, '
+                  'another final face in %.1f runs per draw; against the data %.1f %%, %.1f deg'
                   % (draws, f['runs'], 100 * scatter['impact_friction_ratio'],
-                     scatter['restitution'], 100 * scatter['mu'], every, floor.SPAN,
+                     scatter['restitution'], 100 * scatter['mu'], every, floor.SPAN, *turn,
                      100 * f['position'], math.degrees(f['rotation']),
                      f['other_faces_per_draw'], 100 * f['data_position'],
                      math.degrees(f['data_rotation'])))

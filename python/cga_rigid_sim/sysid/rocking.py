@@ -240,29 +240,40 @@ def compare_after_first_impact(runs, sims, first, threshold=40.0):
         print('    %-6s %-6s %3d %3d' % (key[0], key[1], n, m))
 
 
-def predictability(rows):
-    """Whether the first corner impacts' friction ratio and bounce follow from the state before
+def first_impact_targets():
+    """The first impact's friction ratio and bounce: what `predictability` asks of by default."""
+    return [('friction ratio', lambda row: row['data']['Pt'] / row['data']['Pn']),
+            ('bounce', lambda row: -row['data']['un_post'] / row['data']['un_pre'])]
+
+
+def predictability(rows, targets=None):
+    """Whether quantities of the first corner impacts (`targets`: (name, function of a row ->
+    value or None); the friction ratio and the bounce by default) follow from the state before
     them: a linear least-squares model in the tilt, the slip speed, the normal speed, |ω|, the
     spin about the vertical, the slip's direction against the lever's and the place on the
-    table, scored leave-one-out (R²); and a Kruskal–Wallis test of both across the cube's eight
+    table, scored leave-one-out (R²); and a Kruskal–Wallis test across the cube's eight
     corners."""
     from scipy.stats import kruskal
+    targets = targets or first_impact_targets()
     X, Y, corner = [], [], []
     for row in rows:
         md = row['data']
         if md['kind'] != 'corner':
+            continue
+        y = [f(row) for _, f in targets]
+        if any(v is None for v in y):
             continue
         w, r = md['w_pre'], md['r']
         slip = (md['v_pre'] + np.cross(w, r))[:2]
         X.append([md['tilt_deg'], md['ut_pre'], -md['un_pre'], np.linalg.norm(w), abs(w[2]),
                   (slip / np.linalg.norm(slip)) @ (r[:2] / np.linalg.norm(r[:2])),
                   *md['place']])
-        Y.append([md['Pt'] / md['Pn'], -md['un_post'] / md['un_pre']])
+        Y.append(y)
         corner.append(md['corner'])
     X, Y, corner = np.array(X), np.array(Y), np.array(corner)
     A = np.c_[np.ones(len(X)), (X - X.mean(0)) / np.where(X.std(0) > 0, X.std(0), 1.0)]
     out = {}
-    for j, name in enumerate(('friction ratio', 'bounce')):
+    for j, (name, _) in enumerate(targets):
         loo = []
         for i in range(len(X)):
             m = np.arange(len(X)) != i
