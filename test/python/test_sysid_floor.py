@@ -124,8 +124,8 @@ def test_fit_impacts_floor_refuses_what_it_cannot_use(capsys, args, message):
     assert message in capsys.readouterr().err
 
 
-def test_a_vanishing_turn_kick_steps_the_same_run():
-    # With a turn scatter of 1e-300 the rollout steps one step at a time until the first
+def test_a_vanishing_spin_kick_steps_the_same_run():
+    # With a spin scatter of 1e-300 rad/s the rollout steps one step at a time until the first
     # contact and sets the state there again: it is the batch simulation still, to round-off
     # (measured 1.3e-13 on four tosses; a second after a kick set wrongly it is centimetres).
     runs = runs_of_the_test_data()[:4]
@@ -133,66 +133,68 @@ def test_a_vanishing_turn_kick_steps_the_same_run():
     for run in runs:
         ref = model.simulate_runs(URDF, 'body', [run], PARAMS, DT, SIZE, keep_poses=True)[0]
         poses = floor.rollout_redrawn(scene, 'body', run, PARAMS, {}, 10 ** 6,
-                                      np.random.default_rng(0), DT, turn=(1e-300, 0.0))
+                                      np.random.default_rng(0), DT, spin=(1e-300, 0.0, 0.0))
         assert np.abs(poses - ref['poses']).max() < 1e-11
 
 
 def corner_landing():
-    """A World of the cube falling onto one corner, stepped to the first step with a contact:
-    (world, ω before that step)."""
+    """A World of the cube falling onto one corner, stepped to the first step with a
+    contact."""
     import cga_rigid_sim as cs
     scene = model.scene_of(model.scale_inertia(URDF, PARAMS['inertia_scale']))
     w = cs.World(scene, **model.world_options(PARAMS, DT))
-    tilt = np.array([1.0, 1.0, 0.0]) / math.sqrt(2) * math.atan(math.sqrt(2))  # corner down
-    q = exp(tilt[None])[0]
-    w.set_body_state('body', [0, 0, 0.12], q, [0.5, 0.2, -1.5], [2.0, -3.0, 1.0])
+    tilt = np.array([1.0, 1.0, 0.0]) / math.sqrt(2) * math.radians(35)  # a corner lowest
+    w.set_body_state('body', [0, 0, 0.12], exp(tilt[None])[0], [0.5, 0.2, -1.5],
+                     [2.0, -3.0, 1.0])
     for _ in range(2000):
-        before = w.velocities()[0][3:].copy()
         w.step(1)
         if len(w.contacts()['normal_impulse']):
-            return w, before
+            return w
     raise AssertionError('no contact')
 
 
-def test_a_turn_kick_scales_the_impacts_change_of_spin_and_adds_a_part_across_it():
-    # Truth: the model's own change of spin in the impact step, and the normal deviates the
-    # same seed gives. Along: ω⁻ + ρ Δω with ρ = 1 + 0.3 N₁ (the rng's first draw is the
-    # random direction's three, then N₁). Across: the added part is perpendicular to Δω, of
-    # size 0.2 |N| |Δω|. Both to round-off; the world holds the ω returned.
-    w, before = corner_landing()
-    dw = w.velocities()[0][3:] - before
-    assert np.linalg.norm(dw) > 1.0  # a real impact
-    rng = np.random.default_rng(7)
-    omega = floor.kick_turn(w, 'body', before, (0.3, 0.0), np.random.default_rng(7))
-    rng.normal(size=3)
-    rho = 1 + 0.3 * rng.normal()
-    assert omega == pytest.approx(before + rho * dw, abs=1e-12)
-    assert w.velocities()[0][3:] == pytest.approx(omega, abs=1e-12)
-    w, before = corner_landing()
-    omega = floor.kick_turn(w, 'body', before, (0.0, 0.2), np.random.default_rng(7))
-    extra = omega - before - dw
-    assert abs(extra @ dw) < 1e-9 * np.linalg.norm(dw) ** 2
-    rng = np.random.default_rng(7)
-    rng.normal(size=3), rng.normal()
-    assert np.linalg.norm(extra) == pytest.approx(0.2 * abs(rng.normal()) * np.linalg.norm(dw),
-                                                  rel=1e-12)
+def test_a_spin_kick_adds_the_drawn_departure_in_the_landing_frame():
+    # Truth: the normal deviates the same seed gives, times the deviations, along the landing
+    # frame computed here from the contact point and the centre: the horizontal lever from the
+    # centre to the corner, the horizontal across it, the vertical. The world holds the spin
+    # plus the kick, to round-off.
+    w = corner_landing()
+    before = w.velocities()[0].copy()
+    point, centre = w.contacts()['point'][0], w.com()[0]
+    kick = floor.kick_spin(w, 'body', (2.0, 1.0, 0.5), np.random.default_rng(7))
+    z = np.random.default_rng(7).normal(size=3)
+    h = (point - centre) * [1, 1, 0]
+    h1 = h / np.linalg.norm(h)
+    h2 = np.cross([0, 0, 1], h1)
+    assert np.linalg.norm(h) > 0.02  # a corner out to the side
+    expected = 2.0 * z[0] * h1 + 1.0 * z[1] * h2 + 0.5 * z[2] * np.array([0, 0, 1])
+    assert kick == pytest.approx(expected, abs=1e-12)
+    assert w.velocities()[0][3:] == pytest.approx(before[3:] + expected, abs=1e-12)
+    assert w.velocities()[0][:3] == pytest.approx(before[:3], abs=1e-12)
 
 
-def test_turn_departure_reads_the_deviation_it_was_made_with():
-    # Rows whose measured turn is the simulated one's times 1 + 0.3 z (z quantiles of the
-    # normal) and whose data departs across it by a half-normal of deviation 0.1: the robust
-    # deviation gives back 0.3 and the median across 0.1, to the quantiles' resolution (2 %).
+def test_spin_scatter_reads_the_deviations_it_was_made_with():
+    # Rows whose measured change of spin is the model's law (0.6 of a point impulse's) plus a
+    # departure of deviations 2.5, 1.5 and 0.4 rad/s in the landing frame (normal quantiles,
+    # shuffled per axis), and simulated rows that follow the law exactly: the robust deviations
+    # give them back to the quantiles' resolution (2 %). Levers point every way round.
     from scipy.stats import norm
     n = 201
     z = norm.ppf((np.arange(n) + 0.5) / n)
-    across = 0.1 * norm.ppf(0.5 + 0.5 * (np.arange(n) + 0.5) / n)
+    rng = np.random.default_rng(1)
+    cols = [rng.permutation(z) * sd for sd in (2.5, 1.5, 0.4)]
     rows = []
-    point = np.array([0.0, 2.0, 0.0])
     for k in range(n):
-        sim = {'dw_point': point, 'dw': 0.6 * point}
-        data = {'dw_point': point,
-                'dw': 0.6 * (1 + 0.3 * z[k]) * point + across[k] * 2.0 * np.array([1.0, 0, 0])}
+        a = 2 * math.pi * k / n
+        r = np.array([0.04 * math.cos(a), 0.04 * math.sin(a), -0.03])
+        point = np.cross(r, [0.05, 0.0, 0.5]) / 0.001
+        frame = floor.landing_frame(r)
+        dev = frame.T @ np.array([c[k] for c in cols])
+        sim = {'dw_point': point, 'dw': 0.6 * point, 'r': r}
+        data = {'dw_point': point, 'dw': 0.6 * point + dev, 'r': r}
         rows.append({'data': data, 'sim': sim})
-    along, cross = floor.turn_departure(rows)
-    assert along == pytest.approx(0.3, rel=0.02)
-    assert cross == pytest.approx(0.1, rel=0.02)
+    got = floor.spin_scatter(rows)
+    assert got == pytest.approx((2.5, 1.5, 0.4), rel=0.02)
+    d, s_ = floor.departure(rows[3])
+    assert s_ == pytest.approx([0, 0, 0], abs=1e-9)
+    assert d == pytest.approx([c[3] for c in cols], abs=1e-9)

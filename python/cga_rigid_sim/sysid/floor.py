@@ -11,6 +11,11 @@ the data. What it scores is the error the nominal values would have on a world t
 model with impacts that scatter so: the part of the error on real data that no single set of
 values can remove.
 
+The first impact also leaves a spin that departs from the model's by more than its parameters
+can make (`departure`: the measured change of spin against the model's law applied to the
+measured impulse, in the landing's frame); `kick_spin` adds such a departure to the model's
+first impact, with the deviations `spin_scatter` measures.
+
 The tracking's own noise (`tracking_noise`) says whether the measured scatter is the tracking's:
 in free flight a parabola under gravity and a constant spin (a cube's equal moments) leave
 second differences that are the noise alone.
@@ -42,32 +47,34 @@ def draw(params, scatter, rng):
     return out
 
 
-def kick_turn(world, body, omega_before, turn, rng):
-    """After the step of a run's first impact: makes the impact's change of spin Δω depart from
-    the model's as the measured impacts' depart from a point impulse at the landing point. The
-    spin becomes ω⁻ + ρ Δω + c |Δω| u, ρ = 1 + turn[0] N, c = turn[1] |N| and u a random unit
-    vector across Δω: a couple, which the model's impact law cannot make. Returns the new ω."""
+def landing_frame(lever):
+    """The landing's frame (rows): the horizontal direction of the lever from the centre of
+    mass to the landing point, the horizontal direction across it, and the vertical."""
+    n = np.array([0.0, 0.0, 1.0])
+    h = np.array([lever[0], lever[1], 0.0])
+    h1 = h / np.linalg.norm(h) if np.linalg.norm(h) > 0 else np.array([1.0, 0.0, 0.0])
+    return np.array([h1, np.cross(n, h1), n])
+
+
+def kick_spin(world, body, spin, rng):
+    """After the step of a run's first impact: adds to the body's spin a departure drawn
+    normal with deviations `spin` (rad/s) about the landing frame's three axes (the first
+    contact's point against the centre of mass; `landing_frame`). A couple, which the model's
+    impact law cannot make. Returns the spin added."""
+    lever = world.contacts()['point'][0] - world.com()[0]
+    kick = landing_frame(lever).T @ (np.asarray(spin, float) * rng.normal(size=3))
     pose, vel = world.poses()[0], world.velocities()[0]
-    dw = vel[3:] - omega_before
-    size = float(np.linalg.norm(dw))
-    if size == 0:
-        return vel[3:]
-    u = rng.normal(size=3)
-    u -= (u @ dw) / size ** 2 * dw
-    u /= np.linalg.norm(u)
-    omega = omega_before + (1 + turn[0] * rng.normal()) * dw \
-        + turn[1] * abs(rng.normal()) * size * u
-    world.set_body_state(body, pose[:3], pose[3:], vel[:3], omega)
-    return omega
+    world.set_body_state(body, pose[:3], pose[3:], vel[:3], vel[3:] + kick)
+    return kick
 
 
 def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN,
-                    turn=(0.0, 0.0)):
+                    spin=(0.0, 0.0, 0.0)):
     """The poses (samples, 7) of `run` simulated from its start, its parameters drawn afresh
     (`draw`) every `every` samples while fewer than `span` have passed: each draw makes a new
-    World of `scene` and carries the body's pose and velocities over. With `turn` (two
-    deviations, along and across) the first impact's change of spin is scattered too
-    (`kick_turn`): the steps are taken one by one until the first with a contact."""
+    World of `scene` and carries the body's pose and velocities over. With `spin` (three
+    deviations, rad/s) the spin the first impact leaves is scattered too (`kick_spin`): the
+    steps are taken one by one until the first with a contact."""
     import cga_rigid_sim
 
     def world(pose, vel):
@@ -77,16 +84,15 @@ def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN
     st = run.start
     w = world(np.r_[st.position, st.quaternion], np.r_[st.velocity, st.omega_world])
     out = [w.poses()[0].copy()]
-    kick = any(turn)
+    kick = any(spin)
     for j, n in enumerate(run.increments):
         if 0 < j < span and j % every == 0:
             w = world(w.poses()[0], w.velocities()[0])
         if kick:
             for _ in range(int(n)):
-                before = w.velocities()[0][3:].copy()
                 w.step(1)
                 if kick and len(w.contacts()['normal_impulse']):
-                    kick_turn(w, body, before, turn, rng)
+                    kick_spin(w, body, spin, rng)
                     kick = False
         else:
             w.step(int(n))
@@ -103,9 +109,9 @@ def errors(a, b, size):
 
 
 def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0, span=SPAN,
-          turn=(0.0, 0.0)):
+          spin=(0.0, 0.0, 0.0)):
     """The nominal simulation of every run scored against `draws` simulations of it with
-    scattered impacts (`rollout_redrawn`, seed `seed`, `turn` for the first impact's spin):
+    scattered impacts (`rollout_redrawn`, seed `seed`, `spin` for the first impact's):
     mean position error (fraction of size),
     mean rotation error (rad), the number of other final faces (final attitudes more than 40°
     apart) per draw over all runs, and the nominal's own errors against the data."""
@@ -116,8 +122,8 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
         if not math.isfinite(scatter[name]) or scatter[name] < 0:
             raise model.ParameterError('%s: its standard deviation must be finite and >= 0 '
                                        '(got %r)' % (name, scatter[name]))
-    if len(turn) != 2 or not all(math.isfinite(x) and x >= 0 for x in turn):
-        raise model.ParameterError('turn: two deviations, finite and >= 0 (got %r)' % (turn,))
+    if len(spin) != 3 or not all(math.isfinite(x) and x >= 0 for x in spin):
+        raise model.ParameterError('spin: three deviations, finite and >= 0 (got %r)' % (spin,))
     if draws < 1 or every < 1:
         raise model.ParameterError('draws and every must be at least 1 (got %d, %d)'
                                    % (draws, every))
@@ -130,7 +136,7 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
             continue
         for _ in range(draws):
             other = rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span,
-                                    turn)
+                                    spin)
             if not np.all(np.isfinite(other)):
                 continue
             e = errors(nom['poses'], other, size)
@@ -146,39 +152,46 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
 
 
 def departure(row):
-    """How the measured first impact's change of spin departs from the simulated one's of the
-    same run (a row of `fit impacts` with 'data' and 'sim'), each taken against a point impulse
-    at its landing point: (the ratio of their parts along that impulse's turn, data over sim;
-    the data's part across it less the simulation's, over the impulse's turn), or None."""
+    """How the measured first impact's change of spin departs from the model's (a row of `fit
+    impacts` with 'data' and 'sim', the same run): the data's Δω less the model's law applied
+    to the data's impulse (the simulation's own ratio of Δω to a point impulse at the landing
+    point, times the data's point impulse), and the same on the simulation (the measure's own
+    error), each in the landing frame (rad/s). None without a simulated row."""
     if row.get('sim') is None:
         return None
-    parts = []
-    for m in (row['data'], row['sim']):
-        dwp, dw = np.asarray(m['dw_point']), np.asarray(m['dw'])
-        a = dw @ dwp / (dwp @ dwp)
-        parts.append((a, np.linalg.norm(dw - a * dwp) / np.linalg.norm(dwp)))
-    if parts[1][0] <= 0:
-        return None
-    return parts[0][0] / parts[1][0], parts[0][1] - parts[1][1]
+    sim = row['sim']
+    dwp = np.asarray(sim['dw_point'])
+    ratio = np.asarray(sim['dw']) @ dwp / (dwp @ dwp)
+    out = []
+    for m in (row['data'], sim):
+        res = np.asarray(m['dw']) - ratio * np.asarray(m['dw_point'])
+        out.append(landing_frame(m['r']) @ res)
+    return out[0], out[1]
 
 
-def turn_departure(rows):
-    """The deviations `kick_turn` draws with, from rows of `fit impacts` (`departure`): the
-    robust deviation (quartiles) of the ratio along, and that of a half-normal whose median is
-    the median excess across. None with fewer than 4 simulated rows."""
+def spin_scatter(rows):
+    """The deviations `kick_spin` draws with, from rows of `fit impacts` (`departure`): per
+    axis of the landing frame, the robust deviation (quartiles) of the data's departure less
+    the simulation's in quadrature. None with fewer than 4 simulated rows."""
     d = [x for x in (departure(row) for row in rows) if x is not None]
     if len(d) < 4:
         return None
-    along, across = np.array(d).T
-    q1, q3 = np.percentile(along, [25, 75])
-    return float((q3 - q1) / 1.349), float(max(0.0, np.median(across)) / 0.6745)
+    data, sim = np.array([x[0] for x in d]), np.array([x[1] for x in d])
+
+    def robust(x):
+        q1, q3 = np.percentile(x, [25, 75], axis=0)
+        return (q3 - q1) / 1.349
+    return tuple(float(v) for v in np.sqrt(np.maximum(robust(data) ** 2 - robust(sim) ** 2, 0)))
 
 
 def departure_targets():
-    """`departure`'s two parts as targets of `rocking.predictability`."""
+    """The data's departure about the three axes of the landing frame, as targets of
+    `rocking.predictability`."""
     def part(j):
-        return lambda row: None if departure(row) is None else departure(row)[j]
-    return [("the turn's ratio along", part(0)), ("the turn's excess across", part(1))]
+        return lambda row: None if departure(row) is None else float(departure(row)[0][j])
+    return [("the spin's departure about the lever", part(0)),
+            ("the spin's departure across it", part(1)),
+            ("the spin's departure about the vertical", part(2))]
 
 
 def tracking_noise(trajs, radius, gravity=(0.0, 0.0, -9.81)):

@@ -270,10 +270,11 @@ def main(argv=None):
                          '%d (standard deviations KI and MU relative, E absolute): the error '
                          'one set of values leaves on impacts that scatter so '
                          '(sysid/floor.py)' % floor.SPAN)
-    ap.add_argument('--floor-turn', default='0,0', metavar='ALONG,ACROSS',
-                    help='with --floor: also scatter the first impact\'s change of spin, by '
-                         'ALONG of itself and ACROSS of its size across it (what the impacts '
-                         'summary measures: "the first impact\'s turn against the simulation\'s")')
+    ap.add_argument('--floor-spin', default='0,0,0', metavar='LEVER,ACROSS,VERTICAL',
+                    help='with --floor: also add to the spin the first impact leaves a departure '
+                         'drawn with these deviations (rad/s) about the landing\'s lever, across '
+                         'it and about the vertical (what "the first impact\'s spin against the '
+                         'model\'s" measures)')
     ap.add_argument('--after-first', action='store_true',
                     help='with --sim: simulate each run again from the real state just after '
                          'its first impact and score the rest of it (sysid/restart.py)')
@@ -281,11 +282,12 @@ def main(argv=None):
     if args.after_first and not args.sim:
         ap.error('--after-first needs --sim (the parameters)')
     try:
-        turn = tuple(float(x) for x in args.floor_turn.split(','))
-        if len(turn) != 2:
+        spin = tuple(float(x) for x in args.floor_spin.split(','))
+        if len(spin) != 3:
             raise ValueError
     except ValueError:
-        ap.error('--floor-turn %r: expected ALONG,ACROSS (two numbers)' % args.floor_turn)
+        ap.error('--floor-spin %r: expected LEVER,ACROSS,VERTICAL (three numbers)'
+                 % args.floor_spin)
     if args.slides and not args.sim:
         ap.error('--slides needs --sim (the parameters)')
     if args.floor:
@@ -362,11 +364,11 @@ def main(argv=None):
             print('  %-56s %6.3f [%6.3f %6.3f]' % (name, *q))
     summary('data')
     summary('sim')
-    dep = floor.turn_departure(rows)
+    dep = floor.spin_scatter(rows)
     if dep is not None:
-        print("the first impact's turn against the simulation's (same runs): deviation of their "
-              "ratio along a point impulse's %.2f, across it %.2f (--floor-turn %.2f,%.2f)"
-              % (*dep, *dep))
+        print("the first impact's spin against the model's (the same runs; the data's departure "
+              "less the measure's own): deviations %.2f, %.2f, %.2f rad/s about the lever, "
+              "across it and about the vertical (--floor-spin %.2f,%.2f,%.2f)" % (*dep, *dep))
         if args.floor:
             rocking.predictability(rows, floor.departure_targets())
     if args.rocking:
@@ -399,7 +401,7 @@ def main(argv=None):
         if args.floor:
             try:
                 f = floor.floor(urdf, 'body', runs, params, scatter, draws, every,
-                                1.0 / (RATE * 7), 2 * HALF, turn=turn)
+                                1.0 / (RATE * 7), 2 * HALF, spin=spin)
             except model.ParameterError as e:
                 ap.error('--floor: %s' % e)
             sp, sr, n = floor.tracking_noise(trajs, radius)
@@ -407,10 +409,10 @@ def main(argv=None):
                   'axis' % (n, 1e3 * sp, math.degrees(sr)))
             print('floor: the nominal simulation scored against %d draws of each of %d runs '
                   '(k_i %.0f %%, e %.3f, mu %.0f %% drawn every %d samples over the first %d; '
-                  'the first impact\'s turn %.2f along, %.2f across): %.1f %%, %.1f deg, '
+                  'the first impact\'s spin %.2f, %.2f, %.2f rad/s): %.1f %%, %.1f deg, '
                   'another final face in %.1f runs per draw; against the data %.1f %%, %.1f deg'
                   % (draws, f['runs'], 100 * scatter['impact_friction_ratio'],
-                     scatter['restitution'], 100 * scatter['mu'], every, floor.SPAN, *turn,
+                     scatter['restitution'], 100 * scatter['mu'], every, floor.SPAN, *spin,
                      100 * f['position'], math.degrees(f['rotation']),
                      f['other_faces_per_draw'], 100 * f['data_position'],
                      math.degrees(f['data_rotation'])))
