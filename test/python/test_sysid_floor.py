@@ -116,6 +116,8 @@ def test_a_negative_deviation_is_refused_with_its_name():
     (['--floor', '0.16,0.04,0.1,4'], '--floor needs --sim'),
     (['--sim', 'mu=0.2', '--floor', '0.16,0.04,4'], 'expected KI,E,MU,N'),
     (['--sim', 'mu=0.2', '--floor', '0.16,0.04,0.1,2.5'], 'expected KI,E,MU,N'),
+    (['--sim', 'mu=0.2', '--floor-spin', '2,2,0.4'], '--floor-spin needs --floor'),
+    (['--sim', 'mu=0.2', '--floor', '0,0,0,1', '--floor-spin', '2,2'], 'expected LEVER,ACROSS'),
 ])
 def test_fit_impacts_floor_refuses_what_it_cannot_use(capsys, args, message):
     with pytest.raises(SystemExit) as e:

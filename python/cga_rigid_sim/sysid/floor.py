@@ -100,21 +100,13 @@ def rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span=SPAN
     return np.array(out)
 
 
-def errors(a, b, size):
-    """The scoring's two mean errors of poses b against poses a: position over size, and the
-    rotation angle (rad)."""
-    pos = np.linalg.norm(a[:, :3] - b[:, :3], axis=1).mean() / size
-    rot = scoring.rotation_angle(a[:, 3:], b[:, 3:]).mean()
-    return float(pos), float(rot)
-
-
 def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0, span=SPAN,
           spin=(0.0, 0.0, 0.0)):
     """The nominal simulation of every run scored against `draws` simulations of it with
-    scattered impacts (`rollout_redrawn`, seed `seed`, `spin` for the first impact's):
-    mean position error (fraction of size),
-    mean rotation error (rad), the number of other final faces (final attitudes more than 40°
-    apart) per draw over all runs, and the nominal's own errors against the data."""
+    scattered impacts (`rollout_redrawn`, seed `seed`, `spin` for the first impact's): the
+    mean position error (fraction of size), the mean rotation error (rad), the number of other
+    final faces (final attitudes more than 40° apart) per draw over all runs, and the nominal's
+    own errors against the data."""
     for name in scatter:
         if name not in SCATTERED:
             raise model.ParameterError('%s: not a scattered parameter (%s)'
@@ -139,7 +131,7 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
                                     spin)
             if not np.all(np.isfinite(other)):
                 continue
-            e = errors(nom['poses'], other, size)
+            e = scoring.pose_errors(nom['poses'], other, size)
             pos.append(e[0])
             rot.append(e[1])
             faces += math.degrees(scoring.rotation_angle(nom['poses'][-1:, 3:],
@@ -197,10 +189,9 @@ def departure_targets():
 def tracking_noise(trajs, radius, gravity=(0.0, 0.0, -9.81)):
     """The tracking's noise (standard deviation per axis: m, rad) from each trajectory's free
     flight (the samples before its centre first comes within `radius` of z = 0; a uniform
-    rate): white noise of
-    deviation σ on samples gives second differences of deviation √6 σ, and a parabola under
-    gravity and a constant spin have none of their own. Median over the trajectories with at
-    least 8 such samples."""
+    rate): white noise of deviation σ on samples gives second differences of deviation √6 σ,
+    and a parabola under gravity and a constant spin have none of their own. Median over the
+    trajectories with at least 8 such samples."""
     sp, sr = [], []
     g = np.asarray(gravity, float)
     for traj in trajs:

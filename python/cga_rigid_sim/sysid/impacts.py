@@ -290,6 +290,8 @@ def main(argv=None):
                  % args.floor_spin)
     if args.slides and not args.sim:
         ap.error('--slides needs --sim (the parameters)')
+    if any(spin) and not args.floor:
+        ap.error('--floor-spin needs --floor (the scatter it adds to)')
     if args.floor:
         if not args.sim:
             ap.error('--floor needs --sim (the nominal parameters)')

@@ -31,13 +31,10 @@ def restarted(run, positions, quats, a, rate):
 def scores(reference, sims, size):
     """Mean position (fraction of size) and rotation (deg) errors of the simulated poses against
     the reference poses, and the number of final attitudes more than 40° apart."""
-    pos = [np.linalg.norm(s[:, :3] - r[:, :3], axis=1).mean() / size
-           for s, r in zip(sims, reference)]
-    rot = [np.degrees(scoring.rotation_angle(s[:, 3:], r[:, 3:])).mean()
-           for s, r in zip(sims, reference)]
+    pos, rot = np.array([scoring.pose_errors(r, s, size) for s, r in zip(sims, reference)]).T
     faces = sum(math.degrees(scoring.rotation_angle(s[-1:, 3:], r[-1:, 3:])[0]) > 40
                 for s, r in zip(sims, reference))
-    return float(np.mean(pos)), float(np.mean(rot)), int(faces)
+    return float(np.mean(pos)), math.degrees(np.mean(rot)), int(faces)
 
 
 def after_first(urdf_text, body, runs, nominal, impact_samples, params, dt, size, rate,

@@ -105,6 +105,13 @@ def run_errors(traj, start, sim_positions, sim_quaternions, size):
     return pos, rot
 
 
+def pose_errors(a, b, size):
+    """The two mean errors of poses b (n, 7: x, y, z, qw, qx, qy, qz) against poses a: position
+    as a fraction of `size`, and the rotation angle (rad)."""
+    pos = np.linalg.norm(a[:, :3] - b[:, :3], axis=1).mean() / size
+    return float(pos), float(rotation_angle(a[:, 3:], b[:, 3:]).mean())
+
+
 def summarize(per_run_pos, per_run_rot):
     """Mean and standard deviation over runs of the per-run mean errors (position as a fraction
     of size, rotation in degrees)."""
