@@ -105,6 +105,28 @@ def test_scattered_impacts_move_the_draws_away_from_the_nominal():
                                                             SIZE)]), rel=1e-12)
 
 
+def test_data_that_is_the_nominal_simulation_falls_below_every_draw():
+    # Where the data falls among the draws, checked at its two ends. Runs whose data is the
+    # nominal simulation itself are nearer it than any draw (error 0): rank 0. Runs whose data
+    # is a simulation with μ three times the nominal's (slides a third as long) are further from
+    # it than every draw of a 16 % k_i scatter: rank 1 in position.
+    runs = runs_of_the_test_data()
+    nominal = model.simulate_runs(URDF, 'body', runs, PARAMS, DT, SIZE, keep_poses=True)
+    as_data = [model.Run(r.name, r.start, r.increments, n['poses'][:, :3], n['poses'][:, 3:])
+               for r, n in zip(runs, nominal)]
+    f = floor.floor(URDF, 'body', as_data, PARAMS, {'impact_friction_ratio': 0.16}, 2, 3, DT,
+                    SIZE)
+    assert f['data_position'] < 1e-12
+    assert f['rank_position'] == 0 and f['rank_rotation'] == 0
+    far = model.simulate_runs(URDF, 'body', runs, dict(PARAMS, mu=0.63), DT, SIZE,
+                              keep_poses=True)
+    as_data = [model.Run(r.name, r.start, r.increments, n['poses'][:, :3], n['poses'][:, 3:])
+               for r, n in zip(runs, far)]
+    f = floor.floor(URDF, 'body', as_data, PARAMS, {'impact_friction_ratio': 0.16}, 2, 3, DT,
+                    SIZE)
+    assert f['rank_position'] == 1
+
+
 def test_a_negative_deviation_is_refused_with_its_name():
     with pytest.raises(model.ParameterError, match='restitution: its standard deviation'):
         floor.floor(URDF, 'body', [], PARAMS, {'restitution': -0.1}, 1, 3, DT, SIZE)

@@ -105,8 +105,11 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
     """The nominal simulation of every run scored against `draws` simulations of it with
     scattered impacts (`rollout_redrawn`, seed `seed`, `spin` for the first impact's): the
     mean position error (fraction of size), the mean rotation error (rad), the number of other
-    final faces (final attitudes more than 40° apart) per draw over all runs, and the nominal's
-    own errors against the data."""
+    final faces (final attitudes more than 40° apart) per draw over all runs, the nominal's own
+    errors against the data, and where the data falls among the draws: per run the share of
+    draws nearer the nominal than the data is, averaged over the runs (rank_position,
+    rank_rotation). If the world is the model with this scatter the data is a typical draw and
+    both are near 0.5; below, the scatter is too large, above, too small or the model wrong."""
     for name in scatter:
         if name not in SCATTERED:
             raise model.ParameterError('%s: not a scattered parameter (%s)'
@@ -122,25 +125,31 @@ def floor(urdf_text, body, runs, params, scatter, draws, every, dt, size, seed=0
     nominal = model.simulate_runs(urdf_text, body, runs, params, dt, size, keep_poses=True)
     scene = model.scene_of(model.scale_inertia(urdf_text, float(params.get('inertia_scale', 1))))
     rng = np.random.default_rng(seed)
-    pos, rot, faces = [], [], 0
+    pos, rot, faces, rank_pos, rank_rot = [], [], 0, [], []
     for run, nom in zip(runs, nominal):
         if not nom['ok']:
             continue
+        mine = []
         for _ in range(draws):
             other = rollout_redrawn(scene, body, run, params, scatter, every, rng, dt, span,
                                     spin)
             if not np.all(np.isfinite(other)):
                 continue
-            e = scoring.pose_errors(nom['poses'], other, size)
-            pos.append(e[0])
-            rot.append(e[1])
+            mine.append(scoring.pose_errors(nom['poses'], other, size))
             faces += math.degrees(scoring.rotation_angle(nom['poses'][-1:, 3:],
                                                          other[-1:, 3:])[0]) > 40
+        if mine:
+            mine = np.array(mine)
+            pos += list(mine[:, 0])
+            rot += list(mine[:, 1])
+            rank_pos.append(np.mean(mine[:, 0] < nom['position']))
+            rank_rot.append(np.mean(mine[:, 1] < nom['rotation']))
     ok = [r for r in nominal if r['ok']]
     return {'position': float(np.mean(pos)), 'rotation': float(np.mean(rot)),
             'other_faces_per_draw': faces / draws, 'runs': len(ok),
             'data_position': float(np.mean([r['position'] for r in ok])),
-            'data_rotation': float(np.mean([r['rotation'] for r in ok]))}
+            'data_rotation': float(np.mean([r['rotation'] for r in ok])),
+            'rank_position': float(np.mean(rank_pos)), 'rank_rotation': float(np.mean(rank_rot))}
 
 
 def departure(row):

@@ -418,6 +418,9 @@ def main(argv=None):
                      100 * f['position'], math.degrees(f['rotation']),
                      f['other_faces_per_draw'], 100 * f['data_position'],
                      math.degrees(f['data_rotation'])))
+            print('  where the data falls among the draws (per run the share of draws nearer '
+                  'the nominal than the data; 0.5 if the data is a typical draw): position '
+                  '%.2f, rotation %.2f' % (f['rank_position'], f['rank_rotation']))
         for opt, key in ((args.perturb, 'perturb'), (args.scatter, 'scatter')):
             if opt:
                 a, b, n = opt.split(',')
