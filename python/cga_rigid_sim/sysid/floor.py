@@ -189,7 +189,10 @@ def departure_targets():
     """The data's departure about the three axes of the landing frame, as targets of
     `rocking.predictability`."""
     def part(j):
-        return lambda row: None if departure(row) is None else float(departure(row)[0][j])
+        def value(row):
+            d = departure(row)
+            return None if d is None else float(d[0][j])
+        return value
     return [("the spin's departure about the lever", part(0)),
             ("the spin's departure across it", part(1)),
             ("the spin's departure about the vertical", part(2))]
@@ -212,7 +215,7 @@ def tracking_noise(trajs, radius, gravity=(0.0, 0.0, -9.81)):
         p, q = traj.position[:k], traj.quaternion[:k]
         a = p[2:] - 2 * p[1:-1] + p[:-2] - g * dt * dt
         sp.append(math.sqrt(np.mean(a ** 2) / 6))
-        turn = scoring.rotation_vector(scoring.quat_mul(q[1:], scoring.quat_conj(q[:-1])))
+        turn = scoring.turn_vectors(q)
         d2 = turn[1:] - turn[:-1]
         sr.append(math.sqrt(np.mean(d2 ** 2) / 6))
     if not sp:

@@ -131,8 +131,7 @@ def measure(positions, quats, st, height):
 
 def turn_vectors(quats):
     """ω (world axes) over each sample interval, rad/s."""
-    rel = scoring.quat_mul(quats[1:], scoring.quat_conj(quats[:-1]))
-    return scoring.rotation_vector(rel) * RATE
+    return scoring.turn_vectors(quats) * RATE
 
 
 def settle_index(quats, degrees=3.0):
@@ -332,9 +331,10 @@ def main(argv=None):
         params = {k: float(v) for k, v in (p.split('=') for p in args.sim.split(','))}
         sims = model.simulate_runs(urdf, 'body', runs, params, 1.0 / (RATE * 7), 2 * HALF,
                                    keep_poses=True)
-    rows = []
+    rows, impact_samples = [], []  # the last sample before each run's first impact, or None
     for i, run in enumerate(runs):
         md = measure(run.position, run.quaternion, run.start, args.height)
+        impact_samples.append(md['k'] if md else None)
         if md is None:
             continue
         row = {'run': run.name, 'data': md}
@@ -386,9 +386,7 @@ def main(argv=None):
         rocking.predictability(rows)
         if sims is not None:
             rocking.print_parting(rocking.parting(runs, sims))
-            first = [measure(r.position, r.quaternion, r.start, args.height) for r in runs]
-            rocking.compare_after_first_impact(runs, sims,
-                                               [m['k'] if m else None for m in first])
+            rocking.compare_after_first_impact(runs, sims, impact_samples)
     if sims is not None:
         later(runs, sims)
         if args.slides:
@@ -396,10 +394,8 @@ def main(argv=None):
         if args.grid:
             per_run_best(urdf, runs, params, grid)
         if args.after_first:
-            ks = [m['k'] if m else None for m in
-                  (measure(r.position, r.quaternion, r.start, args.height) for r in runs)]
-            restart.report(restart.after_first(urdf, 'body', runs, sims, ks, params,
-                                               1.0 / (RATE * 7), 2 * HALF, RATE))
+            restart.report(restart.after_first(urdf, 'body', runs, sims, impact_samples,
+                                               params, 1.0 / (RATE * 7), 2 * HALF, RATE))
         if args.floor:
             try:
                 f = floor.floor(urdf, 'body', runs, params, scatter, draws, every,

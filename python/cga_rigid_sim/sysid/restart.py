@@ -23,7 +23,7 @@ def restarted(run, positions, quats, a, rate):
     poses, from the run's start on)."""
     dt = 1.0 / rate
     v = (positions[a + 1] - positions[a]) / dt - G * dt / 2
-    w = scoring.rotation_vector(scoring.quat_mul(quats[a + 1], scoring.quat_conj(quats[a]))) / dt
+    w = scoring.turn_vectors(quats[a:a + 2])[0] / dt
     start = scoring.Start(run.start.index + a, positions[a].copy(), quats[a].copy(), v, w)
     return model.Run(run.name, start, run.increments[a:], run.position[a:], run.quaternion[a:])
 

@@ -105,6 +105,12 @@ def run_errors(traj, start, sim_positions, sim_quaternions, size):
     return pos, rot
 
 
+def turn_vectors(quats):
+    """The rotation vectors (world axes) of each sample's attitude from the one before,
+    q[k+1] q[k]⁻¹: the turn over each interval, rad (times the rate: ω)."""
+    return rotation_vector(quat_mul(quats[1:], quat_conj(quats[:-1])))
+
+
 def pose_errors(a, b, size):
     """The two mean errors of poses b (n, 7: x, y, z, qw, qx, qy, qz) against poses a: position
     as a fraction of `size`, and the rotation angle (rad)."""
